@@ -1,0 +1,144 @@
+#include "datasets/dataset_catalog.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <algorithm>
+
+#include "datasets/dataset_error.h"
+#include "datasets/feature_cache.h"
+#include "datasets/log_mel_extractor.h"
+#include "datasets/simtex.h"
+#include "protocols/parameter_set.h"
+
+namespace fscil {
+
+namespace {
+
+struct RealDataset {
+  const char* name;
+  const char* summary;
+  const char* where;
+  const char* layout;
+};
+
+// Where each real dataset is published and which layout its adapter reads (PROTOCOLS.md).
+const RealDataset kRealDatasets[] = {
+    {"haptex", "HapTex fabrics: 120 classes, 5 channels at 1 kHz, 0.5 s segments (real data)",
+     "the HapTex database of fabric textures (Jiao et al., IEEE World Haptics 2019)",
+     "a generic tactile folder: dataset.json + manifest.csv (file,class,group,recording) + one CSV per "
+     "recording with columns friction_force,normal_force,friction_coefficient,displacement,velocity"},
+    {"lmt108", "LMT108 surfaces: 108 classes, 3-axis acceleration at 10 kHz, 0.8 s segments (real data)",
+     "the LMT Haptic Texture Database v1.1 (Strese et al., 2017)",
+     "AccelScansComponents/Movement/{Training,Testing}/<Material>_Movement_{X,Y,Z}_{train,test}{1..10}.txt"},
+    {"ls100", "LS-100 speakers: 100 classes of 2 s LibriSpeech clips at 16 kHz (real data)",
+     "LS-100 as built by the FSCIL audio benchmarks from LibriSpeech",
+     "train/val/test CSVs with filename,speaker_id,label and the WAV files they name"},
+    {"ns100", "NS-100 instruments: 100 classes of 4 s NSynth notes at 16 kHz (real data)",
+     "NS-100 as built by the FSCIL audio benchmarks from NSynth",
+     "meta CSVs (filename,instrument,audio_source), vocab.json, <root>/<audio_source>/audio/<filename>.wav"},
+    {"folder", "any tactile recordings laid out as dataset.json + manifest.csv + per-recording CSV/TXT",
+     "your own lab", "dataset.json + manifest.csv (file,class,group,recording[,split][,context])"},
+};
+
+struct SimulatedDataset {
+  const char* name;
+  const char* summary;
+  SimtexConfig (*config)();
+  const char* preset;
+  double segment_seconds;
+  SessionDefaults sessions;
+};
+
+const SimulatedDataset kSimulatedDatasets[] = {
+    {"simtex", "simulated HapTex-shaped textures: 120 classes, 5 channels, 1 kHz, 0.5 s, 100 per class",
+     simtex_haptex_config, "haptex", 0.5, {75, 5, 5, 10}},
+    {"simtex-lmt", "simulated LMT108-shaped textures: 108 classes, 3 channels, 10 kHz, 0.8 s, 120 per class",
+     simtex_lmt_config, "lmt108", 0.8, {63, 5, 5, 10}},
+    {"simtex-mini", "small simulated textures for tests: 20 classes, 5 channels, 1 kHz, 0.5 s, 30 per class",
+     simtex_mini_config, "haptex", 0.5, {10, 5, 5, 3}},
+};
+
+LogMelSettings front_end_from(const std::string& preset, const ParameterSet& params) {
+  LogMelSettings settings = log_mel_preset(preset);
+  settings.scale = parse_mel_scale(params.choice("mel_scale", "htk", {"htk", "slaney"}));
+  settings.norm = parse_mel_norm(params.choice("mel_norm", "none", {"none", "slaney"}));
+  return settings;
+}
+
+PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequest& request,
+                                const ParameterSet& params, std::ostream& log) {
+  SimtexConfig config = entry.config();
+  config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1));
+  config.context_strength = params.real("context_strength", config.context_strength);
+  if (config.context_strength < 0) {
+    throw DatasetError(fmt::format("context_strength={}: expected a value >= 0", config.context_strength));
+  }
+
+  DatasetDescription description;
+  description.name = entry.name;
+  description.sample_rate = config.sample_rate;
+  description.channel_names = config.channel_names();
+  for (int y = 0; y < config.classes; ++y) description.class_names.push_back(fmt::format("material{:03d}", y));
+  for (int g = 0; g < config.groups; ++g) description.group_names.push_back(fmt::format("family{:02d}", g));
+  const auto segment_length = static_cast<std::int64_t>(entry.segment_seconds * config.sample_rate);
+  description.segment = {segment_length, segment_length, 0};
+  description.front_end = front_end_from(entry.preset, params);
+  description.sessions = entry.sessions;
+  description.source = config.describe();
+
+  const LogMelExtractor extractor(description.front_end);
+  if (extractor.empty_filters() > 0) {
+    fmt::print(log, "warning: {} of {} Mel filters are empty at n_fft={} (as torchaudio warns); "
+               "their rows stay at -100 dB\n", extractor.empty_filters(), description.front_end.n_mels,
+               description.front_end.n_fft);
+  }
+  const FeatureCache cache(request.cache_dir);
+  if (!request.cache_dir.empty()) {
+    std::string problem;
+    if (auto cached = cache.load(description, &problem)) return std::move(*cached);
+    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
+  }
+
+  PreparedDataset dataset;
+  dataset.description = description;
+  dataset.cache_key = FeatureCache::key_for(description);
+  dataset.segments = segment_recordings(generate_simtex(config, request.threads), description.segment);
+  dataset.features = extractor.extract(dataset.segments.signals, request.threads);
+  if (!request.cache_dir.empty()) cache.store(dataset);
+  return dataset;
+}
+
+}  // namespace
+
+std::vector<CatalogEntry> dataset_catalog() {
+  std::vector<CatalogEntry> entries;
+  for (const auto& entry : kSimulatedDatasets) entries.push_back({entry.name, entry.summary, true});
+  for (const auto& entry : kRealDatasets) entries.push_back({entry.name, entry.summary, false});
+  return entries;
+}
+
+PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& request,
+                                const ParameterSet& params, std::ostream& log) {
+  for (const auto& entry : kSimulatedDatasets) {
+    if (name == entry.name) return build_simulated(entry, request, params, log);
+  }
+  for (const auto& entry : kRealDatasets) {
+    if (name != entry.name) continue;
+    if (request.data_root.empty()) {
+      throw DatasetError(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
+                                     "and lay it out as {}", name, entry.where, entry.layout));
+    }
+    if (!std::filesystem::is_directory(request.data_root)) {
+      throw DatasetError(fmt::format("--data-root {}: no such directory (expected {})",
+                                     request.data_root.string(), entry.layout));
+    }
+    throw DatasetError(fmt::format("dataset '{}': the reader for its real layout is not built yet "
+                                   "(tracked as the real-data adapters issue); use simtex meanwhile", name));
+  }
+  std::vector<std::string> names;
+  for (const auto& entry : dataset_catalog()) names.push_back(entry.name);
+  throw DatasetError(fmt::format("unknown dataset '{}': expected one of {}", name, fmt::join(names, ", ")));
+}
+
+}  // namespace fscil

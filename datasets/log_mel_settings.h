@@ -1,0 +1,37 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+enum class MelScale { htk, slaney };
+enum class MelNorm { none, slaney };
+
+// Parameters of the log-Mel front end; defaults follow torchaudio 0.13's MelSpectrogram.
+struct LogMelSettings {
+  double sample_rate = 16000;
+  std::int64_t n_fft = 400;
+  std::int64_t hop = 200;
+  std::int64_t n_mels = 128;
+  double f_min = 0;
+  double f_max = 0;  // 0 = sample_rate / 2
+  bool center = true;  // reflect-pad n_fft / 2 on both sides
+  MelScale scale = MelScale::htk;
+  MelNorm norm = MelNorm::none;
+
+  std::int64_t frequency_bins() const { return n_fft / 2 + 1; }
+  // Frames produced for a signal of `length` samples.
+  std::int64_t frames(std::int64_t length) const;
+  // Canonical text naming every value, for cache keys and result files.
+  std::string describe() const;
+};
+
+// The per-dataset presets of the paper's spectrogram table (PROTOCOLS.md).
+LogMelSettings log_mel_preset(const std::string& name);
+std::vector<std::string> log_mel_preset_names();
+
+MelScale parse_mel_scale(const std::string& text);
+MelNorm parse_mel_norm(const std::string& text);
+
+}  // namespace fscil

@@ -1,0 +1,35 @@
+#include "methods/common/embedding.h"
+
+#include <fmt/format.h>
+
+#include "methods/method.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& features, std::int64_t batch_size) {
+  torch::NoGradGuard no_grad;
+  const bool was_training = encoder->is_training();
+  encoder->eval();
+  std::vector<torch::Tensor> parts;
+  for (std::int64_t first = 0; first < features.size(0); first += batch_size) {
+    parts.push_back(encoder->forward(features.narrow(0, first, std::min(batch_size, features.size(0) - first))));
+  }
+  encoder->train(was_training);
+  return torch::cat(parts);
+}
+
+torch::Tensor normalized_class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                     const std::vector<std::int64_t>& classes) {
+  const torch::Tensor normalized = F::normalize(embeddings, F::NormalizeFuncOptions().dim(1));
+  std::vector<torch::Tensor> means;
+  for (std::int64_t label : classes) {
+    const torch::Tensor mask = labels == label;
+    if (mask.sum().item<std::int64_t>() == 0) throw MethodError(fmt::format("class {} has no samples to average", label));
+    means.push_back(normalized.index({mask}).mean(0));
+  }
+  return torch::stack(means);
+}
+
+}  // namespace fscil

@@ -1,0 +1,18 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "methods/common/resnet18.h"
+
+namespace fscil {
+
+// Embeds in eval mode without gradients, in batches to bound memory; restores the train flag.
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& features, std::int64_t batch_size = 256);
+
+// Mean of L2-normalised embeddings per class, rows in the order of `classes`.
+torch::Tensor normalized_class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                     const std::vector<std::int64_t>& classes);
+
+}  // namespace fscil

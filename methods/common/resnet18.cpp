@@ -1,0 +1,62 @@
+#include "methods/common/resnet18.h"
+
+namespace fscil {
+
+namespace nn = torch::nn;
+
+namespace {
+nn::Conv2d conv(std::int64_t in, std::int64_t out, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
+  return nn::Conv2d(nn::Conv2dOptions(in, out, kernel).stride(stride).padding(padding).bias(false));
+}
+}  // namespace
+
+BasicBlockImpl::BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride)
+    : conv1(register_module("conv1", conv(in_planes, planes, 3, stride, 1))),
+      conv2(register_module("conv2", conv(planes, planes, 3, 1, 1))),
+      bn1(register_module("bn1", nn::BatchNorm2d(planes))),
+      bn2(register_module("bn2", nn::BatchNorm2d(planes))) {
+  if (stride != 1 || in_planes != planes) {
+    downsample = register_module("downsample", nn::Sequential(conv(in_planes, planes, 1, stride, 0), nn::BatchNorm2d(planes)));
+  }
+}
+
+torch::Tensor BasicBlockImpl::forward(const torch::Tensor& x) {
+  torch::Tensor out = torch::relu(bn1(conv1(x)));
+  out = bn2(conv2(out));
+  out += downsample ? downsample->forward(x) : x;
+  return torch::relu(out);
+}
+
+ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
+    : input_norm(register_module("bn0", nn::BatchNorm2d(options.mel_bins))),
+      stem(register_module("conv1", conv(options.in_channels, options.widths[0], 7, 2, 3))),
+      stem_norm(register_module("bn1", nn::BatchNorm2d(options.widths[0]))),
+      stages(register_module("stages", nn::Sequential())),
+      embedding_size_(options.widths[3]) {
+  std::int64_t in_planes = options.widths[0];
+  for (int stage = 0; stage < 4; ++stage) {
+    const std::int64_t stride = stage == 0 ? 1 : 2;
+    stages->push_back(BasicBlock(in_planes, options.widths[stage], stride));
+    stages->push_back(BasicBlock(options.widths[stage], options.widths[stage], 1));
+    in_planes = options.widths[stage];
+  }
+  for (auto& module : modules(/*include_self=*/false)) {
+    if (auto* convolution = module->as<nn::Conv2d>()) {
+      nn::init::kaiming_normal_(convolution->weight, 0.0, torch::kFanOut, torch::kReLU);
+    } else if (auto* norm = module->as<nn::BatchNorm2d>()) {
+      nn::init::ones_(norm->weight);
+      nn::init::zeros_(norm->bias);
+    }
+  }
+}
+
+torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x) {
+  // bn0 normalises each Mel bin, so the bins become the channel axis for it.
+  torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
+  out = torch::relu(stem_norm(stem(out)));
+  out = torch::max_pool2d(out, 3, 2, 1);
+  out = stages->forward(out);
+  return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);
+}
+
+}  // namespace fscil

@@ -1,0 +1,44 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <array>
+#include <cstdint>
+
+namespace fscil {
+
+struct ResNet18Options {
+  std::int64_t in_channels = 1;
+  std::int64_t mel_bins = 64;
+  std::array<std::int64_t, 4> widths = {64, 128, 256, 256};  // PITS-SC narrows the last stage: D = 256
+};
+
+class BasicBlockImpl : public torch::nn::Module {
+ public:
+  BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride);
+  torch::Tensor forward(const torch::Tensor& x);
+
+ private:
+  torch::nn::Conv2d conv1{nullptr}, conv2{nullptr};
+  torch::nn::BatchNorm2d bn1{nullptr}, bn2{nullptr};
+  torch::nn::Sequential downsample{nullptr};
+};
+TORCH_MODULE(BasicBlock);
+
+// torchvision-style ResNet-18 on C x n_mels x frames log-Mel input, preceded by PITS-SC's
+// per-Mel-bin input BatchNorm ("bn0"); returns the globally pooled D-dimensional embedding.
+class ResNet18EncoderImpl : public torch::nn::Module {
+ public:
+  explicit ResNet18EncoderImpl(const ResNet18Options& options);
+  torch::Tensor forward(const torch::Tensor& x);
+  std::int64_t embedding_size() const { return embedding_size_; }
+
+ private:
+  torch::nn::BatchNorm2d input_norm{nullptr};
+  torch::nn::Conv2d stem{nullptr};
+  torch::nn::BatchNorm2d stem_norm{nullptr};
+  torch::nn::Sequential stages{nullptr};
+  std::int64_t embedding_size_;
+};
+TORCH_MODULE(ResNet18Encoder);
+
+}  // namespace fscil

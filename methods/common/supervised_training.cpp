@@ -1,0 +1,68 @@
+#include "methods/common/supervised_training.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "protocols/seeded_shuffle.h"
+
+namespace fscil {
+
+SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params) {
+  SupervisedSchedule schedule;
+  schedule.epochs = static_cast<int>(params.integer("pretrain_epochs", schedule.epochs));
+  schedule.learning_rate = params.real("pretrain_lr", schedule.learning_rate);
+  schedule.batch_size = static_cast<int>(params.integer("batch_size", schedule.batch_size));
+  schedule.momentum = params.real("momentum", schedule.momentum);
+  schedule.weight_decay = params.real("weight_decay", schedule.weight_decay);
+  schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step));
+  schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma);
+  if (schedule.epochs < 0 || schedule.batch_size < 2 || schedule.lr_step < 1 || schedule.learning_rate <= 0) {
+    throw MethodError(fmt::format("training schedule pretrain_epochs={} batch_size={} lr_step={} pretrain_lr={}: "
+                                  "expected epochs >= 0, batch_size >= 2, lr_step >= 1, pretrain_lr > 0",
+                                  schedule.epochs, schedule.batch_size, schedule.lr_step, schedule.learning_rate));
+  }
+  return schedule;
+}
+
+double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& data,
+                        std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
+                        const std::string& phase) {
+  std::vector<torch::Tensor> parameters = encoder->parameters();
+  for (const auto& parameter : classifier->parameters()) parameters.push_back(parameter);
+  torch::optim::SGD optimizer(parameters, torch::optim::SGDOptions(schedule.learning_rate)
+                                              .momentum(schedule.momentum)
+                                              .nesterov(true)
+                                              .weight_decay(schedule.weight_decay));
+  encoder->train();
+  classifier->train();
+  const std::int64_t samples = data.features.size(0);
+  std::vector<std::int64_t> order(samples);
+  double last_loss = 0;
+  for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
+    const double rate = schedule.learning_rate * std::pow(schedule.lr_gamma, epoch / schedule.lr_step);
+    for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
+    std::iota(order.begin(), order.end(), 0);
+    shuffle_with(order, context.generator);
+    double loss_sum = 0;
+    std::int64_t batches = 0;
+    for (std::int64_t first = 0; first < samples; first += schedule.batch_size) {
+      const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
+      if (size < 2) break;  // BatchNorm cannot train on a single sample
+      const torch::Tensor index = torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
+      const torch::Tensor logits = classifier->forward(encoder->forward(data.features.index_select(0, index)), classes);
+      const torch::Tensor loss = torch::nn::functional::cross_entropy(logits, data.labels.index_select(0, index));
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      ++batches;
+    }
+    last_loss = batches > 0 ? loss_sum / batches : 0.0;
+    if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, last_loss);
+  }
+  return last_loss;
+}
+
+}  // namespace fscil

@@ -1,0 +1,30 @@
+#pragma once
+#include <string>
+
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/resnet18.h"
+#include "methods/method.h"
+
+namespace fscil {
+
+// SGD with Nesterov momentum and a step learning-rate decay, as PITS-SC pretrains.
+struct SupervisedSchedule {
+  int epochs = 100;
+  double learning_rate = 0.1;
+  int batch_size = 128;
+  double momentum = 0.9;
+  double weight_decay = 5e-4;
+  int lr_step = 40;  // epochs between decays
+  double lr_gamma = 0.5;
+
+  // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_step, lr_gamma.
+  static SupervisedSchedule from(const ParameterSet& params);
+};
+
+// Cross-entropy training of encoder + cosine classifier on the classes [0, classes) of `data`.
+// Returns the mean loss of the last epoch.
+double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& data,
+                        std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
+                        const std::string& phase);
+
+}  // namespace fscil

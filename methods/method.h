@@ -1,0 +1,57 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "protocols/parameter_set.h"
+#include "protocols/progress_reporter.h"
+
+namespace fscil {
+
+// One session's labelled data as a method sees it: no file names, no test labels.
+struct SessionData {
+  int session = 0;                  // 0 = base
+  torch::Tensor features;           // N x C x n_mels x frames, log-Mel
+  torch::Tensor signals;            // N x C x L, the raw segments (for methods that mix raw signals)
+  torch::Tensor labels;             // N, int64 protocol class indices
+  std::vector<std::int64_t> new_classes;  // classes this session introduces
+};
+
+struct InputShape {
+  std::int64_t channels = 0, mel_bins = 0, frames = 0, signal_length = 0;
+};
+
+// What a method may use besides its data: seeded randomness, its parameters, the protocol's
+// size, the base validation split (never the test split) and a progress reporter.
+struct RunContext {
+  std::uint64_t seed = 0;
+  std::mt19937_64 generator;
+  int total_classes = 0;  // classes of the whole protocol: classifier rows to allocate
+  int base_classes = 0;
+  InputShape input;
+  const SessionData* validation = nullptr;
+  ProgressReporter* progress = nullptr;
+};
+
+// A FSCIL method. The runner calls train_base once, then learn_session per incremental
+// session, and logits() to test after each. Hyper-parameters are read from the ParameterSet
+// the method is constructed with.
+class Method {
+ public:
+  virtual ~Method() = default;
+  virtual void train_base(const SessionData& base, RunContext& context) = 0;
+  virtual void learn_session(const SessionData& support, RunContext& context) = 0;
+  // features: N x C x n_mels x frames -> N x seen classes.
+  virtual torch::Tensor logits(const torch::Tensor& features) = 0;
+};
+
+// Raised for bad method requests and impossible method states.
+class MethodError : public std::runtime_error {
+ public:
+  explicit MethodError(const std::string& message) : std::runtime_error(message) {}
+};
+
+}  // namespace fscil

@@ -1,0 +1,59 @@
+#include "methods/method_registry.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "methods/method.h"
+#include "methods/prototype/prototype_method.h"
+
+namespace fscil {
+
+const std::vector<MethodEntry>& method_registry() {
+  static const std::vector<MethodEntry> table = {
+      {"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
+       &make_prototype_method},
+  };
+  return table;
+}
+
+namespace {
+const MethodEntry* find_method(const std::string& name) {
+  for (const auto& entry : method_registry()) {
+    if (name == entry.name) return &entry;
+  }
+  return nullptr;
+}
+
+std::string known_names() {
+  std::vector<std::string> names;
+  for (const auto& entry : method_registry()) names.emplace_back(entry.name);
+  return fmt::format("{}", fmt::join(names, ", "));
+}
+}  // namespace
+
+std::vector<std::string> resolve_method_names(const std::string& request) {
+  std::vector<std::string> names;
+  if (request == "all") {
+    for (const auto& entry : method_registry()) names.emplace_back(entry.name);
+    return names;
+  }
+  std::stringstream stream(request);
+  std::string name;
+  while (std::getline(stream, name, ',')) {
+    if (find_method(name) == nullptr) {
+      throw MethodError(fmt::format("unknown method '{}': expected all or one of {}", name, known_names()));
+    }
+    names.push_back(name);
+  }
+  if (names.empty()) throw MethodError(fmt::format("no method named: expected all or one of {}", known_names()));
+  return names;
+}
+
+std::unique_ptr<Method> create_method(const std::string& name, const ParameterSet& params) {
+  const MethodEntry* entry = find_method(name);
+  if (entry == nullptr) throw MethodError(fmt::format("unknown method '{}': expected one of {}", name, known_names()));
+  return entry->create(params);
+}
+
+}  // namespace fscil

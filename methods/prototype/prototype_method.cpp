@@ -1,0 +1,47 @@
+#include "methods/prototype/prototype_method.h"
+
+#include <fmt/format.h>
+
+#include "methods/common/embedding.h"
+
+namespace fscil {
+
+PrototypeMethod::PrototypeMethod(const ParameterSet& params)
+    : schedule_(SupervisedSchedule::from(params)), temperature_(params.real("temperature", 16.0)) {}
+
+void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
+  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  classifier_ = CosineClassifier(context.total_classes, encoder_->embedding_size(), temperature_);
+  train_supervised(encoder_, classifier_, base, context.base_classes, schedule_, context, "base");
+  seen_classes_ = 0;
+  add_prototypes(base);
+  if (context.validation != nullptr && context.progress != nullptr) {
+    const auto predictions = logits(context.validation->features).argmax(1);
+    const double accuracy = 100.0 * (predictions == context.validation->labels).to(torch::kDouble).mean().item<double>();
+    context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy));
+  }
+}
+
+void PrototypeMethod::learn_session(const SessionData& support, RunContext& context) { add_prototypes(support); }
+
+void PrototypeMethod::add_prototypes(const SessionData& data) {
+  const torch::Tensor embeddings = embed_in_batches(encoder_, data.features);
+  const torch::Tensor means = normalized_class_means(embeddings, data.labels, data.new_classes);
+  if (data.new_classes.front() != seen_classes_) {
+    throw MethodError(fmt::format("session {} starts at class {}, expected {}", data.session, data.new_classes.front(),
+                                  seen_classes_));
+  }
+  classifier_->set_rows(seen_classes_, means);
+  seen_classes_ += static_cast<std::int64_t>(data.new_classes.size());
+}
+
+torch::Tensor PrototypeMethod::logits(const torch::Tensor& features) {
+  torch::NoGradGuard no_grad;
+  return classifier_->forward(embed_in_batches(encoder_, features), seen_classes_);
+}
+
+std::unique_ptr<Method> make_prototype_method(const ParameterSet& params) {
+  return std::make_unique<PrototypeMethod>(params);
+}
+
+}  // namespace fscil

@@ -1,0 +1,32 @@
+#pragma once
+#include <memory>
+
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/resnet18.h"
+#include "methods/common/supervised_training.h"
+#include "methods/method.h"
+
+namespace fscil {
+
+// The plain baseline: train encoder + cosine classifier on the base classes, then freeze the
+// encoder; every class (base ones too) is represented by its mean normalised embedding.
+class PrototypeMethod : public Method {
+ public:
+  explicit PrototypeMethod(const ParameterSet& params);
+  void train_base(const SessionData& base, RunContext& context) override;
+  void learn_session(const SessionData& support, RunContext& context) override;
+  torch::Tensor logits(const torch::Tensor& features) override;
+
+ private:
+  void add_prototypes(const SessionData& data);
+
+  SupervisedSchedule schedule_;
+  double temperature_;
+  ResNet18Encoder encoder_{nullptr};
+  CosineClassifier classifier_{nullptr};
+  std::int64_t seen_classes_ = 0;
+};
+
+std::unique_ptr<Method> make_prototype_method(const ParameterSet& params);
+
+}  // namespace fscil

@@ -1,0 +1,36 @@
+#include "metrics/session_accuracy.h"
+
+#include <stdexcept>
+
+namespace fscil {
+
+namespace {
+struct Tally {
+  std::int64_t correct = 0, total = 0;
+  void add(bool hit) { correct += hit ? 1 : 0, ++total; }
+  double percent() const { return total == 0 ? 0.0 : 100.0 * static_cast<double>(correct) / total; }
+};
+}  // namespace
+
+SessionAccuracy score_session(const std::vector<std::int64_t>& labels, const std::vector<std::int64_t>& predictions,
+                              int base_classes, int current_first, int current_end) {
+  if (labels.size() != predictions.size()) throw std::invalid_argument("labels and predictions differ in length");
+  Tally all, base, novel, current;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const bool hit = labels[i] == predictions[i];
+    all.add(hit);
+    (labels[i] < base_classes ? base : novel).add(hit);
+    if (labels[i] >= current_first && labels[i] < current_end) current.add(hit);
+  }
+  SessionAccuracy result;
+  result.all = all.percent();
+  result.base = base.percent();
+  result.novel = novel.percent();
+  result.current = current.percent();
+  result.samples = all.total;
+  const double sum = result.base + result.novel;
+  result.harmonic = novel.total == 0 || sum == 0 ? 0.0 : 2 * result.base * result.novel / sum;
+  return result;
+}
+
+}  // namespace fscil

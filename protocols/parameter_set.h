@@ -1,0 +1,44 @@
+#pragma once
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+// Named hyper-parameters and knobs as text, layered (profile, then --set) and read with a default.
+// Every read is remembered, so a result file can hold every value a run used and the CLI can
+// reject a --set key that nothing reads.
+class ParameterSet {
+ public:
+  void set(const std::string& key, const std::string& value);
+  // Parses "key=value"; throws ProtocolError naming the text when malformed.
+  void set_assignment(const std::string& assignment);
+  bool contains(const std::string& key) const;
+
+  double real(const std::string& key, double fallback) const;
+  std::int64_t integer(const std::string& key, std::int64_t fallback) const;
+  bool flag(const std::string& key, bool fallback) const;
+  std::string text(const std::string& key, const std::string& fallback) const;
+  // text() restricted to a list of allowed values.
+  std::string choice(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& allowed) const;
+
+  // Values of every key read so far, as used (defaults included).
+  const std::map<std::string, std::string>& used() const { return used_; }
+  // Keys set explicitly that no reader asked for.
+  std::vector<std::string> unread_keys() const;
+  // Marks keys read in another copy as read here too (used when each method reads its own copy).
+  void mark_read(const std::set<std::string>& keys);
+  std::set<std::string> read_keys() const;
+
+ private:
+  const std::string* lookup(const std::string& key) const;
+  void remember(const std::string& key, const std::string& value) const;
+
+  std::map<std::string, std::string> values_;
+  mutable std::map<std::string, std::string> used_;
+};
+
+}  // namespace fscil

@@ -1,0 +1,45 @@
+#include "protocols/session_plan.h"
+
+#include <fmt/format.h>
+
+#include <numeric>
+
+#include "protocols/parameter_set.h"
+#include "protocols/protocol_error.h"
+#include "protocols/seeded_shuffle.h"
+
+namespace fscil {
+
+int SessionPlan::session_of_class(int protocol_class) const {
+  if (protocol_class < base_classes) return 0;
+  return 1 + (protocol_class - base_classes) / way;
+}
+
+SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
+                              const ParameterSet& params, std::uint64_t seed) {
+  SessionPlan plan;
+  plan.base_classes = static_cast<int>(params.integer("base_classes", defaults.base_classes));
+  plan.way = static_cast<int>(params.integer("way", defaults.way));
+  plan.shot = static_cast<int>(params.integer("shot", defaults.shot));
+  plan.sessions = static_cast<int>(params.integer("sessions", defaults.sessions));
+  if (plan.base_classes < 2 || plan.way < 1 || plan.shot < 1 || plan.sessions < 1) {
+    throw ProtocolError(fmt::format("session plan base_classes={} way={} shot={} sessions={}: expected at least "
+                                    "2 base classes and positive way, shot and sessions",
+                                    plan.base_classes, plan.way, plan.shot, plan.sessions));
+  }
+  if (plan.total_classes() > dataset_classes) {
+    throw ProtocolError(fmt::format("session plan needs {} classes ({} base + {} sessions x {}-way) but the "
+                                    "dataset has {}", plan.total_classes(), plan.base_classes, plan.sessions - 1,
+                                    plan.way, dataset_classes));
+  }
+  std::vector<int> order(dataset_classes);
+  std::iota(order.begin(), order.end(), 0);
+  if (params.choice("class_order", "natural", {"natural", "shuffled"}) == "shuffled") {
+    seeded_shuffle(order, seed, SeedPurpose::class_order);
+  }
+  order.resize(plan.total_classes());
+  plan.class_order = order;
+  return plan;
+}
+
+}  // namespace fscil

@@ -1,0 +1,141 @@
+#include "protocols/session_schedule.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "protocols/protocol_error.h"
+#include "protocols/seeded_shuffle.h"
+
+namespace fscil {
+
+namespace {
+
+struct ClassSplit {
+  std::vector<std::int64_t> train, validation, test;
+};
+
+int share(std::size_t count, double fraction) {
+  return std::max(1, static_cast<int>(std::lround(fraction * static_cast<double>(count))));
+}
+
+// Splits a list of units (recordings or segments) 60/20/20 after a seeded shuffle.
+template <typename Unit>
+void split_units(std::vector<Unit> units, std::mt19937_64& generator, std::vector<Unit>& train,
+                 std::vector<Unit>& validation, std::vector<Unit>& test) {
+  shuffle_with(units, generator);
+  const int n_test = share(units.size(), 0.2), n_validation = share(units.size(), 0.2);
+  test.assign(units.begin(), units.begin() + n_test);
+  validation.assign(units.begin() + n_test, units.begin() + n_test + n_validation);
+  train.assign(units.begin() + n_test + n_validation, units.end());
+}
+
+ClassSplit split_class(const SegmentSet& segments, const std::vector<std::int64_t>& members, SplitMode mode,
+                       std::mt19937_64& generator, const std::string& class_name) {
+  ClassSplit split;
+  if (mode == SplitMode::segment) {
+    if (members.size() < 3) {
+      throw ProtocolError(fmt::format("class {}: {} segments, at least 3 needed for train/validation/test",
+                                      class_name, members.size()));
+    }
+    split_units(members, generator, split.train, split.validation, split.test);
+    return split;
+  }
+  std::map<int, std::vector<std::int64_t>> by_recording;
+  for (std::int64_t index : members) by_recording[segments.recording_index[index]].push_back(index);
+  std::vector<int> open, held_out;  // held_out: the dataset's own test recordings
+  for (const auto& [recording, indices] : by_recording) {
+    (segments.recording_split[recording] == SplitHint::test ? held_out : open).push_back(recording);
+  }
+  std::vector<int> train, validation, test;
+  if (held_out.empty()) {
+    if (open.size() < 3) {
+      throw ProtocolError(fmt::format("class {}: {} recordings, a split grouped by recording needs at least 3 "
+                                      "(or use --split-mode segment)", class_name, open.size()));
+    }
+    split_units(open, generator, train, validation, test);
+  } else {
+    if (open.size() < 2) {
+      throw ProtocolError(fmt::format("class {}: {} training recordings, at least 2 needed for train and "
+                                      "validation", class_name, open.size()));
+    }
+    shuffle_with(open, generator);
+    const int n_validation = share(open.size(), 0.25);
+    validation.assign(open.begin(), open.begin() + n_validation);
+    train.assign(open.begin() + n_validation, open.end());
+    test = held_out;
+  }
+  auto gather = [&](const std::vector<int>& recordings, std::vector<std::int64_t>& out) {
+    for (int recording : recordings) {
+      const auto& indices = by_recording[recording];
+      out.insert(out.end(), indices.begin(), indices.end());
+    }
+    std::sort(out.begin(), out.end());
+  };
+  gather(train, split.train);
+  gather(validation, split.validation);
+  gather(test, split.test);
+  return split;
+}
+
+}  // namespace
+
+SplitMode parse_split_mode(const std::string& text) {
+  if (text == "recording") return SplitMode::recording;
+  if (text == "segment") return SplitMode::segment;
+  throw ProtocolError(fmt::format("split mode '{}': expected recording or segment", text));
+}
+
+std::vector<std::int64_t> SessionSchedule::labels_of(const std::vector<std::int64_t>& indices) const {
+  std::vector<std::int64_t> labels;
+  labels.reserve(indices.size());
+  for (std::int64_t index : indices) labels.push_back(label[index]);
+  return labels;
+}
+
+SessionSchedule build_session_schedule(const SegmentSet& segments, const std::vector<std::string>& class_names,
+                                       const SessionPlan& plan, SplitMode mode, std::uint64_t seed) {
+  SessionSchedule schedule;
+  schedule.plan = plan;
+  schedule.train.assign(plan.sessions, {});
+  schedule.label.assign(segments.count(), -1);
+
+  std::map<int, int> protocol_class_of;
+  for (int p = 0; p < static_cast<int>(plan.class_order.size()); ++p) protocol_class_of[plan.class_order[p]] = p;
+  std::vector<std::vector<std::int64_t>> members(plan.class_order.size());
+  for (std::int64_t i = 0; i < segments.count(); ++i) {
+    const auto found = protocol_class_of.find(segments.class_index[i]);
+    if (found == protocol_class_of.end()) continue;
+    schedule.label[i] = found->second;
+    members[found->second].push_back(i);
+  }
+
+  for (int p = 0; p < static_cast<int>(members.size()); ++p) {
+    const int dataset_class = plan.class_order[p];
+    const std::string name = dataset_class < static_cast<int>(class_names.size())
+                                 ? class_names[dataset_class] : std::to_string(dataset_class);
+    auto split_generator = seeded_generator(seed, SeedPurpose::split, static_cast<std::uint64_t>(dataset_class));
+    ClassSplit split = split_class(segments, members[p], mode, split_generator, name);
+    const int session = plan.session_of_class(p);
+    schedule.test.insert(schedule.test.end(), split.test.begin(), split.test.end());
+    if (session == 0) {
+      schedule.train[0].insert(schedule.train[0].end(), split.train.begin(), split.train.end());
+      schedule.validation.insert(schedule.validation.end(), split.validation.begin(), split.validation.end());
+      continue;
+    }
+    if (static_cast<int>(split.train.size()) < plan.shot) {
+      throw ProtocolError(fmt::format("class {}: {} training segments, {} shots needed", name, split.train.size(),
+                                      plan.shot));
+    }
+    seeded_shuffle(split.train, seed, SeedPurpose::shots, static_cast<std::uint64_t>(dataset_class));
+    split.train.resize(plan.shot);
+    std::sort(split.train.begin(), split.train.end());
+    auto& session_train = schedule.train[session];
+    session_train.insert(session_train.end(), split.train.begin(), split.train.end());
+  }
+  return schedule;
+}
+
+}  // namespace fscil

@@ -1,0 +1,124 @@
+#include "reports/run_record.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "reports/atomic_file.h"
+#include "reports/report_error.h"
+
+namespace fscil {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+constexpr int kSchemaVersion = 1;
+
+std::string safe_name(std::string text) {
+  for (char& c : text) {
+    if (c == '/' || c == ' ' || c == '+') c = '_';
+  }
+  return text;
+}
+}  // namespace
+
+std::vector<double> RunRecord::session_accuracies() const {
+  std::vector<double> accuracies;
+  for (const auto& session : sessions) accuracies.push_back(session.accuracy.all);
+  return accuracies;
+}
+
+std::string run_record_file_name(const RunRecord& record) {
+  return fmt::format("{}__{}__seed{}.json", safe_name(record.method), safe_name(record.dataset), record.seed);
+}
+
+std::string to_json_text(const RunRecord& record) {
+  json sessions = json::array();
+  for (const auto& s : record.sessions) {
+    sessions.push_back({{"session", s.session},
+                        {"seen_classes", s.seen_classes},
+                        {"accuracy", s.accuracy.all},
+                        {"base_accuracy", s.accuracy.base},
+                        {"novel_accuracy", s.accuracy.novel},
+                        {"current_accuracy", s.accuracy.current},
+                        {"harmonic_mean", s.accuracy.harmonic},
+                        {"test_samples", s.accuracy.samples},
+                        {"train_seconds", s.train_seconds},
+                        {"test_seconds", s.test_seconds}});
+  }
+  const json document = {{"schema", kSchemaVersion},
+                         {"method", record.method},
+                         {"dataset", record.dataset},
+                         {"profile", record.profile},
+                         {"seed", record.seed},
+                         {"threads", record.threads},
+                         {"parameters", record.parameters},
+                         {"machine", record.machine},
+                         {"git_commit", record.git_commit},
+                         {"dataset_key", record.dataset_key},
+                         {"sessions", sessions},
+                         {"total_seconds", record.total_seconds},
+                         {"peak_resident_bytes", record.peak_resident_bytes}};
+  return document.dump(2) + "\n";
+}
+
+RunRecord run_record_from_json_text(const std::string& text, const std::string& origin) {
+  try {
+    const json document = json::parse(text);
+    if (document.at("schema").get<int>() != kSchemaVersion) {
+      throw ReportError(fmt::format("{}: result schema {}, expected {}", origin, document.at("schema").dump(),
+                                    kSchemaVersion));
+    }
+    RunRecord record;
+    record.method = document.at("method").get<std::string>();
+    record.dataset = document.at("dataset").get<std::string>();
+    record.profile = document.at("profile").get<std::string>();
+    record.seed = document.at("seed").get<std::uint64_t>();
+    record.threads = document.at("threads").get<int>();
+    record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
+    record.machine = document.at("machine").get<std::map<std::string, std::string>>();
+    record.git_commit = document.at("git_commit").get<std::string>();
+    record.dataset_key = document.at("dataset_key").get<std::string>();
+    record.total_seconds = document.at("total_seconds").get<double>();
+    record.peak_resident_bytes = document.at("peak_resident_bytes").get<std::int64_t>();
+    for (const auto& s : document.at("sessions")) {
+      SessionRecord session;
+      session.session = s.at("session").get<int>();
+      session.seen_classes = s.at("seen_classes").get<int>();
+      session.accuracy.all = s.at("accuracy").get<double>();
+      session.accuracy.base = s.at("base_accuracy").get<double>();
+      session.accuracy.novel = s.at("novel_accuracy").get<double>();
+      session.accuracy.current = s.at("current_accuracy").get<double>();
+      session.accuracy.harmonic = s.at("harmonic_mean").get<double>();
+      session.accuracy.samples = s.at("test_samples").get<std::int64_t>();
+      session.train_seconds = s.at("train_seconds").get<double>();
+      session.test_seconds = s.at("test_seconds").get<double>();
+      record.sessions.push_back(session);
+    }
+    if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));
+    return record;
+  } catch (const json::exception& error) {
+    throw ReportError(fmt::format("{}: not a valid result file ({})", origin, error.what()));
+  }
+}
+
+void save_run_record(const fs::path& directory, const RunRecord& record) {
+  write_file_atomically(directory / "results" / run_record_file_name(record), to_json_text(record));
+}
+
+std::vector<RunRecord> load_run_records(const fs::path& directory) {
+  if (!fs::is_directory(directory)) throw ReportError(fmt::format("{}: no such results directory", directory.string()));
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::recursive_directory_iterator(directory)) {
+    if (entry.is_regular_file() && entry.path().extension() == ".json") files.push_back(entry.path());
+  }
+  std::sort(files.begin(), files.end());
+  std::vector<RunRecord> records;
+  for (const auto& file : files) records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
+  if (records.empty()) throw ReportError(fmt::format("{}: holds no result files (*.json)", directory.string()));
+  return records;
+}
+
+}  // namespace fscil

@@ -1,0 +1,47 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "metrics/session_accuracy.h"
+
+namespace fscil {
+
+struct SessionRecord {
+  int session = 0;
+  int seen_classes = 0;
+  SessionAccuracy accuracy;
+  double train_seconds = 0;
+  double test_seconds = 0;
+};
+
+// Everything one (method, dataset, seed) run produced: the schema of result files, from
+// which every report can be rebuilt.
+struct RunRecord {
+  std::string method;
+  std::string dataset;
+  std::string profile;
+  std::uint64_t seed = 0;
+  int threads = 0;
+  std::map<std::string, std::string> parameters;  // every hyper-parameter and knob used
+  std::map<std::string, std::string> machine;     // host, cores, compiler, torch version
+  std::string git_commit;
+  std::string dataset_key;  // cache key: which exact data was used
+  std::vector<SessionRecord> sessions;
+  double total_seconds = 0;
+  std::int64_t peak_resident_bytes = 0;
+
+  std::vector<double> session_accuracies() const;
+};
+
+std::string run_record_file_name(const RunRecord& record);
+std::string to_json_text(const RunRecord& record);
+RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
+
+void save_run_record(const std::filesystem::path& directory, const RunRecord& record);
+// Every *.json result file below `directory`, sorted by path. Throws ReportError on a bad file.
+std::vector<RunRecord> load_run_records(const std::filesystem::path& directory);
+
+}  // namespace fscil

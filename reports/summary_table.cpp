@@ -1,0 +1,72 @@
+#include "reports/summary_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <set>
+
+#include "metrics/fscil_metrics.h"
+#include "metrics/statistics.h"
+#include "reports/report_error.h"
+
+namespace fscil {
+
+namespace {
+SeedStatistic statistic_of(const std::vector<double>& values) {
+  return {mean_of(values), standard_deviation_of(values)};
+}
+}  // namespace
+
+bool SummaryTable::several_seeds() const {
+  return std::any_of(rows.begin(), rows.end(), [](const SummaryRow& row) { return row.seeds.size() > 1; });
+}
+
+std::vector<std::string> SummaryTable::datasets() const {
+  std::vector<std::string> names;
+  for (const auto& row : rows) {
+    if (std::find(names.begin(), names.end(), row.dataset) == names.end()) names.push_back(row.dataset);
+  }
+  return names;
+}
+
+SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (const auto& record : records) {
+    const auto key = std::make_pair(record.method, record.dataset);
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
+  SummaryTable table;
+  for (const auto& [method, dataset] : keys) {
+    SummaryRow row;
+    row.method = method;
+    row.dataset = dataset;
+    std::vector<std::vector<double>> per_session;
+    std::vector<double> aa, pd, adr;
+    for (const auto& record : records) {
+      if (record.method != method || record.dataset != dataset) continue;
+      if (std::find(row.seeds.begin(), row.seeds.end(), record.seed) != row.seeds.end()) {
+        throw ReportError(fmt::format("{} on {}: seed {} appears in two result files", method, dataset, record.seed));
+      }
+      const auto accuracies = record.session_accuracies();
+      if (!per_session.empty() && per_session.size() != accuracies.size()) {
+        throw ReportError(fmt::format("{} on {}: runs with {} and {} sessions cannot be averaged", method, dataset,
+                                      per_session.size(), accuracies.size()));
+      }
+      per_session.resize(accuracies.size());
+      for (std::size_t s = 0; s < accuracies.size(); ++s) per_session[s].push_back(accuracies[s]);
+      const FscilSummary summary = summarize_sessions(accuracies);
+      aa.push_back(summary.average_accuracy);
+      pd.push_back(summary.performance_drop);
+      adr.push_back(summary.average_drop_rate);
+      row.seeds.push_back(record.seed);
+    }
+    for (const auto& values : per_session) row.session_accuracy.push_back(statistic_of(values));
+    row.average_accuracy = statistic_of(aa);
+    row.performance_drop = statistic_of(pd);
+    row.average_drop_rate = statistic_of(adr);
+    table.rows.push_back(std::move(row));
+  }
+  return table;
+}
+
+}  // namespace fscil

@@ -1,0 +1,42 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "reports/run_record.h"
+
+namespace fscil {
+
+// A mean over seeds with its sample standard deviation.
+struct SeedStatistic {
+  double mean = 0;
+  double std = 0;
+};
+
+// One (method, dataset) row: per-session accuracy and AA/PD/ADR over its seeds. AA/PD/ADR are
+// computed per seed, then averaged.
+struct SummaryRow {
+  std::string method;
+  std::string dataset;
+  std::vector<std::uint64_t> seeds;
+  std::vector<SeedStatistic> session_accuracy;
+  SeedStatistic average_accuracy, performance_drop, average_drop_rate;
+};
+
+struct SummaryTable {
+  std::vector<SummaryRow> rows;  // in order of first appearance
+  bool several_seeds() const;
+  std::vector<std::string> datasets() const;
+};
+
+// Groups records by (method, dataset). Throws ReportError when runs of one group disagree on
+// the number of sessions or repeat a seed.
+SummaryTable summarize_runs(const std::vector<RunRecord>& records);
+
+// Renderers of the same table: CSV for scripts, LaTeX in the paper's layout (best in bold),
+// Markdown for the terminal.
+std::string render_csv(const SummaryTable& table);
+std::string render_latex(const SummaryTable& table);
+std::string render_markdown(const SummaryTable& table);
+
+}  // namespace fscil

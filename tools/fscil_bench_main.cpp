@@ -1,0 +1,97 @@
+// fscil-bench: run FSCIL methods on tactile and audio datasets and tabulate the results.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <iostream>
+
+#include "datasets/dataset_catalog.h"
+#include "methods/method_registry.h"
+#include "protocols/profiles.h"
+#include "reports/run_record.h"
+#include "tools/logmel_command.h"
+#include "tools/report_writer.h"
+#include "tools/run_command.h"
+
+namespace {
+
+void print_catalogue() {
+  fmt::print("methods:\n");
+  for (const auto& entry : fscil::method_registry()) fmt::print("  {:<22} {}\n", entry.name, entry.summary);
+  fmt::print("datasets:\n");
+  for (const auto& entry : fscil::dataset_catalog()) fmt::print("  {:<22} {}\n", entry.name, entry.summary);
+  fmt::print("profiles:\n");
+  for (const auto& profile : fscil::profiles()) fmt::print("  {:<22} {}\n", profile.name, profile.summary);
+}
+
+void rebuild_reports(const std::string& results, const std::string& out) {
+  const auto records = fscil::load_run_records(results);
+  fmt::print("{}", fscil::write_reports(out.empty() ? results : out, records));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
+  app.set_help_all_flag("--help-all", "Help for every subcommand");
+  app.require_subcommand(0, 1);
+
+  fscil::RunOptions run;
+  app.add_option("--methods", run.methods, "'all' or a comma-separated list of methods (see: fscil-bench list)");
+  app.add_option("--dataset", run.dataset, "dataset name (see: fscil-bench list)");
+  app.add_option("--profile", run.profile, "smoke | fast | paper")->capture_default_str();
+  app.add_option("--seeds", run.seeds, "seeds, e.g. 1,2,3 or 1-5")->capture_default_str();
+  app.add_option("--threads", run.threads, "compute threads (0 = all cores)")->capture_default_str();
+  app.add_option("--out", run.out, "output directory for result files and tables")->capture_default_str();
+  app.add_option("--data-root", run.data_root, "root folder of a real dataset download");
+  app.add_option("--cache-dir", run.cache_dir, "feature cache folder (default: ~/.cache/fscil-bench)");
+  app.add_flag("--no-cache", run.no_cache, "neither read nor write the feature cache");
+  app.add_option("--split-mode", run.split_mode, "recording (grouped, default) | segment")->capture_default_str();
+  app.add_option("--class-order", run.class_order, "natural | shuffled (from the seed)")->capture_default_str();
+  app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
+  app.add_flag("--quiet", run.quiet, "no progress on stderr");
+
+  auto* list = app.add_subcommand("list", "List methods, datasets and profiles, one line each");
+
+  fscil::LogMelOptions logmel;
+  auto* logmel_command = app.add_subcommand("logmel", "Compute log-Mel spectrograms of an HDF5 signal");
+  logmel_command->add_option("--input", logmel.input, "HDF5 file with dataset /signal (float32, C x L)")->required();
+  logmel_command->add_option("--output", logmel.output, "HDF5 file to write /logmel (float32, C x M x T)")->required();
+  logmel_command->add_option("--sample-rate", logmel.settings.sample_rate, "sample rate in Hz")->required();
+  logmel_command->add_option("--n-fft", logmel.settings.n_fft, "FFT size")->required();
+  logmel_command->add_option("--hop", logmel.settings.hop, "hop in samples")->required();
+  logmel_command->add_option("--n-mels", logmel.settings.n_mels, "Mel bins")->required();
+  logmel.settings.center = false;
+  logmel_command->add_flag("--center", logmel.settings.center, "reflect-pad n_fft/2 on both sides");
+  logmel_command->add_option("--mel-scale", logmel.mel_scale, "htk | slaney")->capture_default_str();
+  logmel_command->add_option("--mel-norm", logmel.mel_norm, "none | slaney")->capture_default_str();
+  logmel_command->add_option("--threads", logmel.threads, "threads (0 = all cores)");
+
+  std::string results_dir, report_out;
+  auto* report = app.add_subcommand("report", "Rebuild summary.csv, results.tex and the Markdown table from result files");
+  report->add_option("--results", results_dir, "directory holding result JSON files")->required();
+  report->add_option("--out", report_out, "where to write the tables (default: the results directory)");
+
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (list->parsed()) {
+      print_catalogue();
+    } else if (logmel_command->parsed()) {
+      fscil::run_logmel(logmel);
+    } else if (report->parsed()) {
+      rebuild_reports(results_dir, report_out);
+    } else {
+      if (run.methods.empty() || run.dataset.empty()) {
+        fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");
+        return 2;
+      }
+      fscil::run_benchmark(run);
+    }
+  } catch (const std::exception& error) {
+    // One line naming what was wrong; earlier result files stay as they were written.
+    std::string message = error.what();
+    if (const auto newline = message.find('\n'); newline != std::string::npos) message.resize(newline);
+    fmt::print(stderr, "fscil-bench: error: {}\n", message);
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,144 @@
+#include "tools/run_command.h"
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+#include "datasets/dataset_catalog.h"
+#include "methods/method_registry.h"
+#include "metrics/resource_usage.h"
+#include "protocols/profiles.h"
+#include "protocols/protocol_error.h"
+#include "protocols/protocol_runner.h"
+#include "protocols/session_schedule.h"
+#include "tools/machine_info.h"
+#include "tools/report_writer.h"
+#include "tools/seed_list.h"
+
+namespace fscil {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path default_cache_dir() {
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0') return fs::path(xdg) / "fscil-bench";
+  if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') return fs::path(home) / ".cache" / "fscil-bench";
+  return fs::temp_directory_path() / "fscil-bench-cache";
+}
+
+ParameterSet base_parameters(const RunOptions& options) {
+  ParameterSet params;
+  apply_profile(options.profile, params);
+  params.set("split_mode", options.split_mode);
+  params.set("class_order", options.class_order);
+  for (const auto& assignment : options.assignments) params.set_assignment(assignment);
+  return params;
+}
+
+// A --set key that no dataset, protocol or method reads is a typo: refuse it before training.
+void reject_unread_keys(const ParameterSet& params, const std::vector<const ParameterSet*>& readers) {
+  ParameterSet combined = params;
+  for (const auto* reader : readers) combined.mark_read(reader->read_keys());
+  const auto unread = combined.unread_keys();
+  if (!unread.empty()) {
+    throw ProtocolError(fmt::format("--set {}: no dataset, protocol or method of this run reads it",
+                                    fmt::join(unread, ", ")));
+  }
+}
+
+}  // namespace
+
+int configure_threads(int requested) {
+  const int threads = requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  torch::set_num_threads(threads);
+  return threads;
+}
+
+void run_benchmark(const RunOptions& options) {
+  const auto method_names = resolve_method_names(options.methods);
+  const auto seeds = parse_seed_list(options.seeds);
+  const int threads = configure_threads(options.threads);
+  const ParameterSet params = base_parameters(options);
+  ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
+
+  // Methods read their hyper-parameters on construction, so a bad value fails here, early.
+  std::vector<ParameterSet> method_params;
+  for (const auto& name : method_names) {
+    method_params.push_back(params);
+    create_method(name, method_params.back());
+  }
+  ParameterSet protocol_params = params;
+  const SplitMode split_mode = parse_split_mode(protocol_params.text("split_mode", "recording"));
+
+  DatasetRequest request;
+  request.data_root = options.data_root;
+  request.cache_dir = options.no_cache ? fs::path() : (options.cache_dir.empty() ? default_cache_dir() : fs::path(options.cache_dir));
+  request.threads = threads;
+  ParameterSet dataset_params = params;
+  progress.stage(fmt::format("preparing dataset {}", options.dataset));
+  Stopwatch dataset_clock;
+  const PreparedDataset dataset = prepare_dataset(options.dataset, request, dataset_params, std::cerr);
+  progress.note(fmt::format("{} segments of shape {} ready in {:.1f}s", dataset.segments.count(),
+                            fmt::join(dataset.features.shape.begin() + 1, dataset.features.shape.end(), "x"),
+                            dataset_clock.seconds()));
+
+  std::vector<SessionSchedule> schedules;
+  for (std::uint64_t seed : seeds) {
+    const SessionPlan plan = make_session_plan(static_cast<int>(dataset.description.class_names.size()),
+                                               dataset.description.sessions, protocol_params, seed);
+    schedules.push_back(build_session_schedule(dataset.segments, dataset.description.class_names, plan, split_mode, seed));
+  }
+  std::vector<const ParameterSet*> readers = {&protocol_params, &dataset_params};
+  for (const auto& method_param : method_params) readers.push_back(&method_param);
+  reject_unread_keys(params, readers);
+
+  const auto machine = describe_machine();
+  const std::string commit = source_commit();
+  std::vector<RunRecord> records;
+  for (std::size_t m = 0; m < method_names.size(); ++m) {
+    for (std::size_t s = 0; s < seeds.size(); ++s) {
+      progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", method_names[m], options.dataset, seeds[s],
+                                 m * seeds.size() + s + 1, method_names.size() * seeds.size()));
+      ParameterSet run_params = params;
+      auto method = create_method(method_names[m], run_params);
+      torch::manual_seed(seeds[s]);
+      RunContext context;
+      context.seed = seeds[s];
+      context.generator = std::mt19937_64(seeds[s]);
+      context.progress = &progress;
+      Stopwatch run_clock;
+      const auto outcomes = run_sessions(*method, dataset, schedules[s], context);
+
+      RunRecord record;
+      record.method = method_names[m];
+      record.dataset = options.dataset;
+      record.profile = options.profile;
+      record.seed = seeds[s];
+      record.threads = threads;
+      record.parameters = run_params.used();
+      for (const auto& [key, value] : dataset_params.used()) record.parameters[key] = value;
+      for (const auto& [key, value] : protocol_params.used()) record.parameters[key] = value;
+      record.machine = machine;
+      record.git_commit = commit;
+      record.dataset_key = dataset.cache_key;
+      for (const auto& outcome : outcomes) {
+        record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
+                                   outcome.test_seconds});
+      }
+      record.total_seconds = run_clock.seconds();
+      record.peak_resident_bytes = peak_resident_bytes();
+      save_run_record(options.out, record);
+      records.push_back(std::move(record));
+    }
+  }
+  const std::string markdown = write_reports(options.out, records);
+  fmt::print("{}", markdown);
+  fmt::print("Results: {}/summary.csv, {}/results.tex, one JSON per run in {}/results/\n", options.out, options.out,
+             options.out);
+}
+
+}  // namespace fscil

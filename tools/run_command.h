@@ -1,0 +1,30 @@
+#pragma once
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+struct RunOptions {
+  std::string methods;
+  std::string dataset;
+  std::string profile = "fast";
+  std::string seeds = "1";
+  int threads = 0;  // 0 = every hardware thread
+  std::string out = "results";
+  std::string data_root;
+  std::string cache_dir;  // empty = the user cache directory
+  bool no_cache = false;
+  std::string split_mode = "recording";
+  std::string class_order = "natural";
+  std::vector<std::string> assignments;  // --set key=value
+  bool quiet = false;
+};
+
+// The main job: every method x seed through the protocol, one result file per run written as
+// soon as it finishes, then summary.csv, results.tex and a Markdown table on stdout.
+void run_benchmark(const RunOptions& options);
+
+// Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.
+int configure_threads(int requested);
+
+}  // namespace fscil
