@@ -1,0 +1,121 @@
+#include "datasets/feature_cache.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "datasets/dataset_catalog.h"
+#include "datasets/dataset_error.h"
+#include "datasets/hdf5_file.h"
+#include "protocols/parameter_set.h"
+#include "tests/temporary_directory.h"
+
+namespace fscil {
+namespace {
+
+TEST(FeatureCache, SecondLoadComesFromTheCacheAndEqualsTheFirst) {
+  TemporaryDirectory directory;
+  DatasetRequest request;
+  request.cache_dir = directory.path();
+  std::stringstream log;
+  const PreparedDataset built = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  const FeatureCache cache(directory.path());
+  ASSERT_TRUE(std::filesystem::exists(cache.path_for(built.description)));
+  const PreparedDataset loaded = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  EXPECT_EQ(loaded.features.shape, (std::vector<std::int64_t>{600, 5, 64, 24}));
+  EXPECT_EQ(loaded.features.values, built.features.values);
+  EXPECT_EQ(loaded.segments.signals.values, built.segments.signals.values);
+  EXPECT_EQ(loaded.segments.class_index, built.segments.class_index);
+  EXPECT_EQ(loaded.segments.recording_ids, built.segments.recording_ids);
+  EXPECT_EQ(loaded.segments.context_names, built.segments.context_names);
+  ASSERT_EQ(loaded.segments.context_values.size(), built.segments.context_values.size());
+  for (std::size_t i = 0; i < loaded.segments.context_values.size(); ++i) {
+    EXPECT_FLOAT_EQ(loaded.segments.context_values[i], built.segments.context_values[i]);
+  }
+}
+
+TEST(FeatureCache, EveryShapingParameterChangesTheKey) {
+  DatasetDescription description;
+  description.name = "simtex-mini";
+  description.source = "simtex seed=1";
+  description.segment = {500, 500, 0};
+  description.front_end = log_mel_preset("haptex");
+  const std::string key = FeatureCache::key_for(description);
+  auto changed = description;
+  changed.source = "simtex seed=2";
+  EXPECT_NE(FeatureCache::key_for(changed), key);
+  changed = description;
+  changed.segment.hop = 250;
+  EXPECT_NE(FeatureCache::key_for(changed), key);
+  changed = description;
+  changed.front_end.scale = MelScale::slaney;
+  EXPECT_NE(FeatureCache::key_for(changed), key);
+  changed = description;
+  changed.front_end.n_mels = 32;
+  EXPECT_NE(FeatureCache::key_for(changed), key);
+  EXPECT_EQ(FeatureCache::key_for(description), key);
+}
+
+TEST(FeatureCache, ACorruptFileIsReportedAndRebuiltNeverTrusted) {
+  TemporaryDirectory directory;
+  DatasetRequest request;
+  request.cache_dir = directory.path();
+  std::stringstream log;
+  const PreparedDataset built = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  const auto path = FeatureCache(directory.path()).path_for(built.description);
+  std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
+  std::string problem;
+  EXPECT_FALSE(FeatureCache(directory.path()).load(built.description, &problem).has_value());
+  EXPECT_NE(problem.find(path.string()), std::string::npos);
+  const PreparedDataset rebuilt = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  EXPECT_EQ(rebuilt.features.values, built.features.values);
+  EXPECT_NE(log.str().find("ignoring unreadable cache file"), std::string::npos);
+  EXPECT_TRUE(FeatureCache(directory.path()).load(built.description).has_value());
+}
+
+TEST(Hdf5File, ReadersNameTheFileAndWhatWasExpected) {
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "data.h5";
+  FloatArray matrix({2, 3});
+  Hdf5Contents contents;
+  contents.floats["signal"] = &matrix;
+  contents.integers["labels"] = {1, 2};
+  write_hdf5_atomically(path, contents);
+  EXPECT_EQ(read_hdf5_floats(path, "signal", 2).shape, (std::vector<std::int64_t>{2, 3}));
+  for (const auto& entry : std::filesystem::directory_iterator(directory.path())) {
+    EXPECT_EQ(entry.path().filename(), "data.h5") << "no temporary file may remain";
+  }
+  auto message_of = [](auto&& call) {
+    try {
+      call();
+    } catch (const DatasetError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message_of([&] { read_hdf5_floats(path, "signal", 3); }).find("has 2 dimensions, expected 3"), std::string::npos);
+  EXPECT_NE(message_of([&] { read_hdf5_floats(path, "missing"); }).find("has no dataset 'missing'"), std::string::npos);
+  EXPECT_NE(message_of([&] { read_hdf5_floats(path, "labels"); }).find("not floating point"), std::string::npos);
+  EXPECT_NE(message_of([&] { read_hdf5_floats(directory.path() / "absent.h5", "signal"); }).find("no such file"),
+            std::string::npos);
+  std::ofstream(directory.path() / "text.h5") << "not hdf5 at all";
+  EXPECT_NE(message_of([&] { read_hdf5_floats(directory.path() / "text.h5", "signal"); }).find("not an HDF5 file"),
+            std::string::npos);
+}
+
+TEST(DatasetCatalog, RealDatasetsWithoutDataRootSayWhatToDownload) {
+  try {
+    prepare_dataset("lmt108", DatasetRequest{}, ParameterSet(), std::cerr);
+    FAIL() << "expected an error";
+  } catch (const DatasetError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("--data-root"), std::string::npos);
+    EXPECT_NE(message.find("LMT Haptic Texture Database"), std::string::npos);
+    EXPECT_NE(message.find("AccelScansComponents/Movement"), std::string::npos);
+  }
+  EXPECT_THROW(prepare_dataset("cifar100", DatasetRequest{}, ParameterSet(), std::cerr), DatasetError);
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,91 @@
+#include "methods/prototype/prototype_method.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "datasets/dataset_catalog.h"
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/resnet18.h"
+#include "methods/method_registry.h"
+#include "protocols/profiles.h"
+#include "protocols/protocol_runner.h"
+
+namespace fscil {
+namespace {
+
+TEST(ResNet18Encoder, EmbedsBothTactileShapesIntoTwoHundredFiftySixDimensions) {
+  torch::manual_seed(0);
+  ResNet18Encoder haptex(ResNet18Options{5, 64});
+  haptex->eval();
+  EXPECT_EQ(haptex->forward(torch::randn({3, 5, 64, 24})).sizes(), (std::vector<std::int64_t>{3, 256}));
+  ResNet18Encoder lmt(ResNet18Options{3, 64});
+  lmt->eval();
+  EXPECT_EQ(lmt->forward(torch::randn({2, 3, 64, 493})).sizes(), (std::vector<std::int64_t>{2, 256}));
+  // bn0 normalises the 64 Mel bins: 64 weights and 64 biases among the parameters.
+  const auto named = haptex->named_parameters();
+  EXPECT_EQ(named["bn0.weight"].numel(), 64);
+  // Stem 7x7 over 5 input channels into 64.
+  EXPECT_EQ(named["conv1.weight"].sizes(), (std::vector<std::int64_t>{64, 5, 7, 7}));
+}
+
+TEST(CosineClassifier, ScoresTemperatureTimesCosineOverSeenRowsOnly) {
+  CosineClassifier classifier(4, 2, 16.0);
+  classifier->set_rows(0, torch::tensor({{1.0f, 0.0f}, {0.0f, 2.0f}, {1.0f, 1.0f}, {-1.0f, 0.0f}}));
+  const torch::Tensor logits = classifier->forward(torch::tensor({{3.0f, 4.0f}}), 3);
+  ASSERT_EQ(logits.sizes(), (std::vector<std::int64_t>{1, 3}));
+  EXPECT_NEAR(logits[0][0].item<float>(), 16.0 * 0.6, 1e-5);
+  EXPECT_NEAR(logits[0][1].item<float>(), 16.0 * 0.8, 1e-5);
+  EXPECT_NEAR(logits[0][2].item<float>(), 16.0 * 7.0 / (5.0 * std::sqrt(2.0)), 1e-5);
+}
+
+class PrototypeOnSimtexMini : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    torch::set_num_threads(2);
+    std::stringstream log;
+    dataset_ = new PreparedDataset(prepare_dataset("simtex-mini", DatasetRequest{}, ParameterSet(), log));
+  }
+  static void TearDownTestSuite() { delete dataset_; }
+
+  std::vector<SessionOutcome> run(std::uint64_t seed) {
+    ParameterSet params;
+    apply_profile("smoke", params);
+    const SessionPlan plan = make_session_plan(20, dataset_->description.sessions, params, seed);
+    const SessionSchedule schedule = build_session_schedule(dataset_->segments, dataset_->description.class_names, plan,
+                                                            SplitMode::recording, seed);
+    auto method = create_method("prototype", params);
+    torch::manual_seed(seed);
+    RunContext context;
+    context.seed = seed;
+    context.generator = std::mt19937_64(seed);
+    return run_sessions(*method, *dataset_, schedule, context);
+  }
+
+  static PreparedDataset* dataset_;
+};
+PreparedDataset* PrototypeOnSimtexMini::dataset_ = nullptr;
+
+TEST_F(PrototypeOnSimtexMini, LearnsFarAboveChanceAndRepeatsExactlyWithTheSameSeed) {
+  const auto first = run(1);
+  ASSERT_EQ(first.size(), 3u);
+  EXPECT_EQ(first[0].seen_classes, 10);
+  EXPECT_EQ(first[2].seen_classes, 20);
+  EXPECT_EQ(first[0].accuracy.samples, 10 * 5);  // 1 of 6 recordings x 5 segments per class
+  EXPECT_EQ(first[2].accuracy.samples, 20 * 5);
+  // Chance is 10% after the base session and 5% after the last.
+  EXPECT_GT(first[0].accuracy.all, 30.0);
+  EXPECT_GT(first[2].accuracy.novel, 15.0);
+  const auto again = run(1);
+  for (std::size_t s = 0; s < first.size(); ++s) EXPECT_EQ(first[s].accuracy.all, again[s].accuracy.all);
+}
+
+TEST(MethodRegistry, ResolvesAllAndRejectsUnknownNames) {
+  EXPECT_EQ(resolve_method_names("all").front(), "prototype");
+  EXPECT_EQ(resolve_method_names("prototype"), (std::vector<std::string>{"prototype"}));
+  EXPECT_THROW(resolve_method_names("prototype,nosuch"), MethodError);
+  EXPECT_THROW(create_method("nosuch", ParameterSet()), MethodError);
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,172 @@
+#include "protocols/session_schedule.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "protocols/parameter_set.h"
+#include "protocols/protocol_error.h"
+
+namespace fscil {
+namespace {
+
+// classes x recordings x segments_per_recording segments, recordings numbered globally.
+SegmentSet synthetic_segments(int classes, int recordings, int per_recording) {
+  SegmentSet set;
+  for (int c = 0; c < classes; ++c) {
+    for (int r = 0; r < recordings; ++r) {
+      set.recording_ids.push_back("c" + std::to_string(c) + "r" + std::to_string(r));
+      set.recording_split.push_back(SplitHint::none);
+      for (int s = 0; s < per_recording; ++s) {
+        set.class_index.push_back(c);
+        set.group_index.push_back(0);
+        set.recording_index.push_back(c * recordings + r);
+      }
+    }
+  }
+  return set;
+}
+
+std::vector<std::string> names(int classes) {
+  std::vector<std::string> result;
+  for (int c = 0; c < classes; ++c) result.push_back("class" + std::to_string(c));
+  return result;
+}
+
+SessionPlan plan_for(int classes, SessionDefaults defaults, const ParameterSet& params = ParameterSet(),
+                     std::uint64_t seed = 1) {
+  return make_session_plan(classes, defaults, params, seed);
+}
+
+TEST(SessionPlan, FollowsTheDatasetProtocolAndItsOverrides) {
+  const SessionPlan haptex = plan_for(120, {75, 5, 5, 10});
+  EXPECT_EQ(haptex.total_classes(), 120);
+  EXPECT_EQ(haptex.seen_after(0), 75);
+  EXPECT_EQ(haptex.seen_after(9), 120);
+  EXPECT_EQ(haptex.first_class_of(3), 85);
+  EXPECT_EQ(haptex.session_of_class(74), 0);
+  EXPECT_EQ(haptex.session_of_class(75), 1);
+  EXPECT_EQ(haptex.session_of_class(119), 9);
+  EXPECT_EQ(haptex.class_order.front(), 0);
+  EXPECT_EQ(haptex.class_order.back(), 119);
+
+  ParameterSet params;
+  params.set("shot", "1");
+  params.set("sessions", "4");
+  const SessionPlan shorter = plan_for(120, {75, 5, 5, 10}, params);
+  EXPECT_EQ(shorter.shot, 1);
+  EXPECT_EQ(shorter.total_classes(), 90);
+
+  params.set("sessions", "20");
+  EXPECT_THROW(plan_for(120, {75, 5, 5, 10}, params), ProtocolError);
+}
+
+TEST(SessionPlan, ShuffledOrderIsAPermutationDrawnFromTheSeed) {
+  ParameterSet params;
+  params.set("class_order", "shuffled");
+  const SessionPlan one = plan_for(20, {10, 5, 5, 3}, params, 1);
+  const SessionPlan again = plan_for(20, {10, 5, 5, 3}, params, 1);
+  const SessionPlan other = plan_for(20, {10, 5, 5, 3}, params, 2);
+  EXPECT_EQ(one.class_order, again.class_order);
+  EXPECT_NE(one.class_order, other.class_order);
+  auto sorted = one.class_order;
+  std::sort(sorted.begin(), sorted.end());
+  for (int c = 0; c < 20; ++c) EXPECT_EQ(sorted[c], c);
+}
+
+TEST(SessionSchedule, RecordingsNeverStraddleTrainValidationAndTest) {
+  const SegmentSet segments = synthetic_segments(20, 10, 10);
+  const SessionPlan plan = plan_for(20, {10, 5, 5, 3});
+  const SessionSchedule schedule = build_session_schedule(segments, names(20), plan, SplitMode::recording, 3);
+
+  std::map<int, std::set<std::string>> sides;  // recording -> which sides use it
+  for (auto index : schedule.train[0]) sides[segments.recording_index[index]].insert("train");
+  for (auto index : schedule.validation) sides[segments.recording_index[index]].insert("validation");
+  for (auto index : schedule.test) sides[segments.recording_index[index]].insert("test");
+  for (int s = 1; s < 3; ++s) {
+    for (auto index : schedule.train[s]) sides[segments.recording_index[index]].insert("train");
+  }
+  for (const auto& [recording, used] : sides) EXPECT_EQ(used.size(), 1u) << "recording " << recording;
+
+  // 10 recordings per class: 6 train, 2 validation, 2 test, 10 segments each.
+  EXPECT_EQ(schedule.train[0].size(), 10u * 60u);
+  EXPECT_EQ(schedule.validation.size(), 10u * 20u);
+  EXPECT_EQ(schedule.test.size(), 20u * 20u);
+  for (int s = 1; s < 3; ++s) {
+    ASSERT_EQ(schedule.train[s].size(), 25u);
+    std::map<std::int64_t, int> per_class;
+    for (auto label : schedule.labels_of(schedule.train[s])) ++per_class[label];
+    EXPECT_EQ(per_class.size(), 5u);
+    for (const auto& [label, count] : per_class) {
+      EXPECT_EQ(count, 5);
+      EXPECT_EQ(plan.session_of_class(static_cast<int>(label)), s);
+    }
+  }
+  for (auto label : schedule.labels_of(schedule.validation)) EXPECT_LT(label, 10);
+}
+
+TEST(SessionSchedule, ShotsComeFromTheSeedAndTheSameSeedRepeats) {
+  const SegmentSet segments = synthetic_segments(20, 10, 10);
+  const SessionPlan plan = plan_for(20, {10, 5, 5, 3});
+  const auto first = build_session_schedule(segments, names(20), plan, SplitMode::recording, 5);
+  const auto again = build_session_schedule(segments, names(20), plan, SplitMode::recording, 5);
+  const auto other = build_session_schedule(segments, names(20), plan, SplitMode::recording, 6);
+  EXPECT_EQ(first.train, again.train);
+  EXPECT_EQ(first.test, again.test);
+  EXPECT_NE(first.train[1], other.train[1]);
+}
+
+TEST(SessionSchedule, DatasetTestRecordingsNeverReachTrainingOrShots) {
+  SegmentSet segments = synthetic_segments(15, 8, 4);
+  for (std::size_t r = 0; r < segments.recording_split.size(); ++r) {
+    segments.recording_split[r] = (r % 8) < 4 ? SplitHint::train : SplitHint::test;
+  }
+  const SessionPlan plan = plan_for(15, {5, 5, 3, 3});
+  const auto schedule = build_session_schedule(segments, names(15), plan, SplitMode::recording, 1);
+  for (const auto& session : schedule.train) {
+    for (auto index : session) EXPECT_EQ(segments.recording_split[segments.recording_index[index]], SplitHint::train);
+  }
+  for (auto index : schedule.validation) {
+    EXPECT_EQ(segments.recording_split[segments.recording_index[index]], SplitHint::train);
+  }
+  for (auto index : schedule.test) EXPECT_EQ(segments.recording_split[segments.recording_index[index]], SplitHint::test);
+}
+
+TEST(SessionSchedule, SegmentModeSplitsSegmentsSixtyTwentyTwenty) {
+  const SegmentSet segments = synthetic_segments(20, 2, 10);
+  const auto schedule = build_session_schedule(segments, names(20), plan_for(20, {10, 5, 5, 3}), SplitMode::segment, 1);
+  EXPECT_EQ(schedule.train[0].size(), 10u * 12u);
+  EXPECT_EQ(schedule.test.size(), 20u * 4u);
+  EXPECT_THROW(build_session_schedule(segments, names(20), plan_for(20, {10, 5, 5, 3}), SplitMode::recording, 1),
+               ProtocolError);
+}
+
+TEST(SessionSchedule, TooFewShotsNameTheClass) {
+  const SegmentSet segments = synthetic_segments(20, 5, 1);  // 3 training segments per class
+  try {
+    build_session_schedule(segments, names(20), plan_for(20, {10, 5, 5, 3}), SplitMode::recording, 1);
+    FAIL() << "expected an error";
+  } catch (const ProtocolError& error) {
+    EXPECT_NE(std::string(error.what()).find("class10: 3 training segments, 5 shots needed"), std::string::npos);
+  }
+}
+
+TEST(ParameterSet, RemembersEveryReadAndRejectsMalformedValues) {
+  ParameterSet params;
+  params.set_assignment("pretrain_epochs=7");
+  params.set_assignment("typo_key=1");
+  EXPECT_EQ(params.integer("pretrain_epochs", 100), 7);
+  EXPECT_DOUBLE_EQ(params.real("temperature", 16.0), 16.0);
+  EXPECT_EQ(params.used().at("temperature"), "16");
+  EXPECT_EQ(params.unread_keys(), (std::vector<std::string>{"typo_key"}));
+  params.set("lr", "fast");
+  EXPECT_THROW(params.real("lr", 0.1), ProtocolError);
+  params.set("order", "sideways");
+  EXPECT_THROW(params.choice("order", "natural", {"natural", "shuffled"}), ProtocolError);
+  EXPECT_THROW(params.set_assignment("no_equals_sign"), ProtocolError);
+}
+
+}  // namespace
+}  // namespace fscil

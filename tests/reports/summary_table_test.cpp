@@ -1,0 +1,116 @@
+#include "reports/summary_table.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "reports/atomic_file.h"
+#include "reports/report_error.h"
+#include "reports/run_record.h"
+#include "tests/temporary_directory.h"
+
+namespace fscil {
+namespace {
+
+RunRecord record_of(const std::string& method, std::uint64_t seed, std::vector<double> accuracies) {
+  RunRecord record;
+  record.method = method;
+  record.dataset = "simtex";
+  record.profile = "fast";
+  record.seed = seed;
+  record.threads = 2;
+  record.parameters = {{"pretrain_epochs", "8"}};
+  record.machine = {{"host", "test"}};
+  record.git_commit = "abc";
+  record.dataset_key = "0123";
+  for (std::size_t s = 0; s < accuracies.size(); ++s) {
+    SessionRecord session;
+    session.session = static_cast<int>(s);
+    session.seen_classes = 10 + 5 * static_cast<int>(s);
+    session.accuracy.all = accuracies[s];
+    session.accuracy.base = accuracies[s] + 1;
+    session.accuracy.samples = 100;
+    session.train_seconds = 1.5;
+    record.sessions.push_back(session);
+  }
+  record.total_seconds = 12.5;
+  record.peak_resident_bytes = 1 << 20;
+  return record;
+}
+
+TEST(RunRecord, RoundTripsThroughJson) {
+  const RunRecord original = record_of("cop-fscil/cpi+pspc", 3, {90, 80.5, 70.25});
+  const RunRecord copy = run_record_from_json_text(to_json_text(original), "memory");
+  EXPECT_EQ(copy.method, original.method);
+  EXPECT_EQ(copy.seed, 3u);
+  EXPECT_EQ(copy.parameters, original.parameters);
+  EXPECT_EQ(copy.session_accuracies(), original.session_accuracies());
+  EXPECT_DOUBLE_EQ(copy.sessions[1].accuracy.base, 81.5);
+  EXPECT_EQ(copy.peak_resident_bytes, 1 << 20);
+  EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
+}
+
+TEST(RunRecord, BadFilesNameThemselves) {
+  TemporaryDirectory directory;
+  save_run_record(directory.path(), record_of("prototype", 1, {50, 40}));
+  EXPECT_EQ(load_run_records(directory.path()).size(), 1u);
+  std::ofstream(directory.path() / "results" / "broken.json") << "{\"schema\": 1, \"method\": ";
+  try {
+    load_run_records(directory.path());
+    FAIL() << "expected an error";
+  } catch (const ReportError& error) {
+    EXPECT_NE(std::string(error.what()).find("broken.json: not a valid result file"), std::string::npos);
+  }
+  EXPECT_THROW(load_run_records(directory.path() / "missing"), ReportError);
+}
+
+TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
+  const SummaryTable table = summarize_runs(
+      {record_of("prototype", 1, {90, 80, 70}), record_of("prototype", 2, {80, 80, 60}), record_of("pits-sc", 1, {95, 90, 85})});
+  ASSERT_EQ(table.rows.size(), 2u);
+  const SummaryRow& prototype = table.rows[0];
+  EXPECT_EQ(prototype.seeds, (std::vector<std::uint64_t>{1, 2}));
+  EXPECT_DOUBLE_EQ(prototype.session_accuracy[0].mean, 85.0);
+  EXPECT_NEAR(prototype.session_accuracy[0].std, std::sqrt(50.0), 1e-12);
+  EXPECT_DOUBLE_EQ(prototype.average_accuracy.mean, (80.0 + 220.0 / 3) / 2);
+  EXPECT_DOUBLE_EQ(prototype.performance_drop.mean, 20.0);
+  const double adr_seed1 = 50.0 * (10.0 / 90 + 10.0 / 80), adr_seed2 = 50.0 * (0.0 + 20.0 / 80);
+  EXPECT_NEAR(prototype.average_drop_rate.mean, (adr_seed1 + adr_seed2) / 2, 1e-12);
+  EXPECT_TRUE(table.several_seeds());
+  EXPECT_THROW(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 1, {90, 80})}), ReportError);
+  EXPECT_THROW(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {90, 80, 70})}), ReportError);
+}
+
+TEST(SummaryTable, CsvHoldsMeansAndStdColumns) {
+  const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
+  const std::string header = csv.substr(0, csv.find('\n'));
+  EXPECT_EQ(header, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std");
+  EXPECT_NE(csv.find("prototype,simtex,1 2,80.0000,10.0000,"), std::string::npos);
+  const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
+  EXPECT_EQ(single, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1\nprototype,simtex,1,85.0000,10.0000,11.1111,90.0000,80.0000\n");
+}
+
+TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
+  const SummaryTable table = summarize_runs({record_of("prototype", 1, {90, 70}), record_of("pits-sc", 1, {95, 65})});
+  const std::string latex = render_latex(table);
+  EXPECT_NE(latex.find("pits-sc & \\textbf{95.00} & 65.00"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("prototype & 90.00 & \\textbf{70.00} & \\textbf{20.00} & \\textbf{80.00}"), std::string::npos) << latex;
+  const std::string markdown = render_markdown(table);
+  EXPECT_NE(markdown.find("| method | 0 | 1 | PD | AA | ADR |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| pits-sc | **95.00** | 65.00 | 30.00 | **80.00** |"), std::string::npos) << markdown;
+}
+
+TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "sub" / "table.csv";
+  write_file_atomically(path, "first\n");
+  write_file_atomically(path, "second\n");
+  EXPECT_EQ(read_text_file(path), "second\n");
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) files += entry.is_regular_file();
+  EXPECT_EQ(files, 1);
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,137 @@
+// Runs the fscil-bench executable as a user would and checks exit codes, messages and files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include "datasets/hdf5_file.h"
+#include "tests/temporary_directory.h"
+
+namespace fscil {
+namespace {
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr together
+};
+
+CommandResult run_cli(const std::string& arguments) {
+  const std::string command = std::string(FSCIL_BENCH_EXECUTABLE) + " " + arguments + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 512> buffer{};
+  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) output += buffer.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+// The error contract: exactly one line, starting with the program name, non-zero exit.
+void expect_one_error_line(const CommandResult& result, const std::string& fragment) {
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  const auto line_start = result.output.find("fscil-bench: error: ");
+  ASSERT_NE(line_start, std::string::npos) << result.output;
+  const std::string line = result.output.substr(line_start, result.output.find('\n', line_start) - line_start);
+  EXPECT_NE(line.find(fragment), std::string::npos) << line;
+  EXPECT_EQ(result.output.find("fscil-bench: error: ", line_start + 1), std::string::npos) << result.output;
+}
+
+TEST(Cli, ListsMethodsDatasetsAndProfiles) {
+  const CommandResult result = run_cli("list");
+  EXPECT_EQ(result.exit_code, 0);
+  for (const char* name : {"prototype", "simtex", "simtex-lmt", "simtex-mini", "lmt108", "smoke", "fast", "paper"}) {
+    EXPECT_NE(result.output.find(name), std::string::npos) << name;
+  }
+}
+
+TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
+  TemporaryDirectory out;
+  const std::string common = " --quiet --no-cache --out " + out.path().string();
+  expect_one_error_line(run_cli("--methods nosuch --dataset simtex-mini" + common), "unknown method 'nosuch'");
+  expect_one_error_line(run_cli("--methods prototype --dataset nosuch" + common), "unknown dataset 'nosuch'");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --profile turbo" + common),
+                        "unknown profile 'turbo'");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --seeds 1,x" + common), "--seeds '1,x'");
+  expect_one_error_line(run_cli("--methods prototype --dataset haptex" + common), "needs --data-root");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --set no_such_knob=3" + common),
+                        "--set no_such_knob");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --set pretrain_epochs=many" + common),
+                        "pretrain_epochs='many': expected an integer");
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "summary.csv"));
+}
+
+TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
+  TemporaryDirectory out;
+  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 1,2 --threads 2 "
+                                    "--quiet --no-cache --out " + out.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("| prototype |"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
+  std::ifstream csv(out.path() / "summary.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,acc_2,AA_std", 0), 0u) << header;
+  const std::string first_summary = std::string(std::istreambuf_iterator<char>(csv), {});
+
+  std::filesystem::remove(out.path() / "summary.csv");
+  const CommandResult report = run_cli("report --results " + out.path().string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  std::ifstream rebuilt(out.path() / "summary.csv");
+  std::getline(rebuilt, header);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(rebuilt), {}), first_summary);
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "results.tex"));
+}
+
+TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
+  TemporaryDirectory directory;
+  const auto input = directory.path() / "in.h5";
+  const auto output = directory.path() / "out.h5";
+  FloatArray signal({3, 8000});
+  for (std::int64_t i = 0; i < signal.size(); ++i) signal.values[i] = static_cast<float>(std::sin(0.01 * i * (1 + i % 3)));
+  Hdf5Contents contents;
+  contents.floats["signal"] = &signal;
+  write_hdf5_atomically(input, contents);
+  const std::string settings = " --sample-rate 10000 --n-fft 128 --hop 16 --n-mels 64";
+  const CommandResult ok = run_cli("logmel --input " + input.string() + " --output " + output.string() + settings);
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("Mel filters are empty"), std::string::npos) << "LMT108 settings leave filters empty";
+  EXPECT_EQ(read_hdf5_floats(output, "logmel", 3).shape, (std::vector<std::int64_t>{3, 64, 493}));
+
+  const auto wrong_rank = directory.path() / "rank.h5";
+  FloatArray cube({2, 2, 100});
+  Hdf5Contents cube_contents;
+  cube_contents.floats["signal"] = &cube;
+  write_hdf5_atomically(wrong_rank, cube_contents);
+  const auto truncated = directory.path() / "truncated.h5";
+  std::filesystem::copy_file(input, truncated);
+  std::filesystem::resize_file(truncated, std::filesystem::file_size(input) / 3);
+  const auto nan_file = directory.path() / "nan.h5";
+  signal.values[4321] = std::nanf("");
+  write_hdf5_atomically(nan_file, contents);
+  const auto absent = directory.path() / "absent.h5";
+
+  const struct {
+    std::filesystem::path file;
+    const char* fragment;
+  } cases[] = {{wrong_rank, "has 3 dimensions, expected 2"},
+               {truncated, "truncated"},
+               {nan_file, "finite values expected"},
+               {absent, "no such file"}};
+  for (const auto& bad : cases) {
+    const auto target = directory.path() / ("out-" + bad.file.stem().string() + ".h5");
+    expect_one_error_line(run_cli("logmel --input " + bad.file.string() + " --output " + target.string() + settings),
+                          bad.fragment);
+    EXPECT_NE(run_cli("logmel --input " + bad.file.string() + " --output " + target.string() + settings).output.find(
+                  bad.file.string()),
+              std::string::npos);
+    EXPECT_FALSE(std::filesystem::exists(target)) << "no output may be written for " << bad.file;
+  }
+}
+
+}  // namespace
+}  // namespace fscil

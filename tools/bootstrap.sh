@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages fscil-bench needs (only those missing), makes OpenBLAS the
+# system BLAS, then configures and builds Release into build/. Safe to run again.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+packages=(
+  build-essential cmake git pkg-config ccache
+  libtorch-dev libopenblas0-openmp
+  libfftw3-dev libhdf5-dev libsndfile1-dev
+  libfmt-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev
+)
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if [ "${#missing[@]}" -gt 0 ]; then
+  echo "bootstrap: installing ${missing[*]}"
+  as_root apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
+fi
+
+# Debian links LibTorch against the reference BLAS (~2 GFLOP/s); OpenBLAS gives ~100x on matmul.
+arch_dir=/usr/lib/x86_64-linux-gnu
+for library in libblas.so.3 liblapack.so.3; do
+  link="${library}-x86_64-linux-gnu"
+  target="$arch_dir/openblas-openmp/$library"
+  if [ -e "$target" ] && [ "$(readlink -f "$arch_dir/$library")" != "$target" ]; then
+    as_root update-alternatives --set "$link" "$target"
+  fi
+done
+
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$(nproc)"
