@@ -83,6 +83,10 @@ struct PresetCase {
   bool slaney;
 };
 
+void PrintTo(const PresetCase& param, std::ostream* out) {
+  *out << param.preset << (param.slaney ? " (Slaney)" : " (HTK)");
+}
+
 class LogMelAgreesWithReference : public ::testing::TestWithParam<PresetCase> {};
 
 TEST_P(LogMelAgreesWithReference, WithinOneHundredthOfADecibel) {
