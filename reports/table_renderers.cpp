@@ -100,7 +100,7 @@ std::string render_csv(const SummaryTable& table) {
 
 std::string render_latex(const SummaryTable& table) {
   const bool with_std = table.several_seeds();
-  std::string out = "% fscil-bench results; requires \\usepackage{booktabs}\n";
+  std::string out = "% fscil-bench results; requires \\usepackage{booktabs,multirow}\n";
   for (const auto& dataset : table.datasets()) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));

@@ -14,15 +14,25 @@
 namespace fscil {
 namespace {
 
-TEST(FeatureCache, SecondLoadComesFromTheCacheAndEqualsTheFirst) {
+// simtex-mini prepared once into a fresh cache directory.
+class CachedSimtexMini : public ::testing::Test {
+ protected:
+  CachedSimtexMini() : built(prepare()) {}
+  PreparedDataset prepare() {
+    request.cache_dir = directory.path();
+    return prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  }
+
   TemporaryDirectory directory;
   DatasetRequest request;
-  request.cache_dir = directory.path();
   std::stringstream log;
-  const PreparedDataset built = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  const PreparedDataset built;
+};
+
+TEST_F(CachedSimtexMini, SecondLoadComesFromTheCacheAndEqualsTheFirst) {
   const FeatureCache cache(directory.path());
   ASSERT_TRUE(std::filesystem::exists(cache.path_for(built.description)));
-  const PreparedDataset loaded = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  const PreparedDataset loaded = prepare();
   EXPECT_EQ(loaded.features.shape, (std::vector<std::int64_t>{600, 5, 64, 24}));
   EXPECT_EQ(loaded.features.values, built.features.values);
   EXPECT_EQ(loaded.segments.signals.values, built.segments.signals.values);
@@ -57,18 +67,13 @@ TEST(FeatureCache, EveryShapingParameterChangesTheKey) {
   EXPECT_EQ(FeatureCache::key_for(description), key);
 }
 
-TEST(FeatureCache, ACorruptFileIsReportedAndRebuiltNeverTrusted) {
-  TemporaryDirectory directory;
-  DatasetRequest request;
-  request.cache_dir = directory.path();
-  std::stringstream log;
-  const PreparedDataset built = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+TEST_F(CachedSimtexMini, ACorruptFileIsReportedAndRebuiltNeverTrusted) {
   const auto path = FeatureCache(directory.path()).path_for(built.description);
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
   std::string problem;
   EXPECT_FALSE(FeatureCache(directory.path()).load(built.description, &problem).has_value());
   EXPECT_NE(problem.find(path.string()), std::string::npos);
-  const PreparedDataset rebuilt = prepare_dataset("simtex-mini", request, ParameterSet(), log);
+  const PreparedDataset rebuilt = prepare();
   EXPECT_EQ(rebuilt.features.values, built.features.values);
   EXPECT_NE(log.str().find("ignoring unreadable cache file"), std::string::npos);
   EXPECT_TRUE(FeatureCache(directory.path()).load(built.description).has_value());
