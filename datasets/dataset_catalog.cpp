@@ -71,6 +71,7 @@ PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequ
   SimtexConfig config = entry.config();
   config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1));
   config.context_strength = params.real("context_strength", config.context_strength);
+  config.context_shift = parse_context_shift(params.choice("context_shift", "none", {"none", "device", "speed"}));
   if (config.context_strength < 0) {
     throw DatasetError(fmt::format("context_strength={}: expected a value >= 0", config.context_strength));
   }

@@ -37,15 +37,19 @@ struct RunContext {
 };
 
 // A FSCIL method. The runner calls train_base once, then learn_session per incremental
-// session, and logits() to test after each. Hyper-parameters are read from the ParameterSet
-// the method is constructed with.
+// session, and tests after each through embed() and classify(). A method reads every
+// hyper-parameter from the ParameterSet in its constructor, so bad values fail before training.
 class Method {
  public:
   virtual ~Method() = default;
   virtual void train_base(const SessionData& base, RunContext& context) = 0;
   virtual void learn_session(const SessionData& support, RunContext& context) = 0;
-  // features: N x C x n_mels x frames -> N x seen classes.
-  virtual torch::Tensor logits(const torch::Tensor& features) = 0;
+  // features: N x C x n_mels x frames -> N x D, the embedding the classifier uses (eval mode).
+  virtual torch::Tensor embed(const torch::Tensor& features) = 0;
+  // N x D embeddings -> N x seen classes.
+  virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
+
+  torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }
 };
 
 // Raised for bad method requests and impossible method states.

@@ -2,6 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "metrics/context_dispersion.h"
 #include "metrics/resource_usage.h"
 
 namespace fscil {
@@ -15,6 +20,34 @@ torch::Tensor rows_of(const FloatArray& array, const torch::Tensor& index) {
 }
 
 constexpr std::int64_t kTestBatch = 512;
+
+// One id per distinct acquisition context (the tuple of a recording's known context values,
+// without the held-out marker), per segment; empty when the dataset knows no contexts.
+std::vector<int> context_ids(const SegmentSet& segments) {
+  const std::size_t columns = segments.context_names.size();
+  std::vector<std::size_t> used;
+  for (std::size_t k = 0; k < columns; ++k) {
+    if (segments.context_names[k] != "held_out") used.push_back(k);
+  }
+  if (used.empty()) return {};
+  std::map<std::vector<double>, int> ids;
+  std::vector<int> per_recording;
+  for (std::size_t r = 0; r < segments.recording_ids.size(); ++r) {
+    std::vector<double> key;
+    for (std::size_t k : used) key.push_back(segments.context_values[r * columns + k]);
+    if (std::any_of(key.begin(), key.end(), [](double v) { return std::isnan(v); })) return {};
+    per_recording.push_back(ids.emplace(key, static_cast<int>(ids.size())).first->second);
+  }
+  std::vector<int> per_segment;
+  for (int recording : segments.recording_index) per_segment.push_back(per_recording[recording]);
+  return per_segment;
+}
+
+template <typename T>
+std::vector<T> to_vector(const torch::Tensor& tensor) {
+  const torch::Tensor contiguous = tensor.contiguous();
+  return std::vector<T>(contiguous.data_ptr<T>(), contiguous.data_ptr<T>() + contiguous.numel());
+}
 
 }  // namespace
 
@@ -48,6 +81,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   context.base_classes = plan.base_classes;
   context.input = input_shape_of(dataset);
 
+  const std::vector<int> segment_contexts = context_ids(dataset.segments);
   std::vector<SessionOutcome> outcomes;
   for (int session = 0; session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
@@ -69,23 +103,32 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     Stopwatch test_clock;
     const torch::Tensor seen = (test_labels < outcome.seen_classes).nonzero().flatten();
     const torch::Tensor features = test_features.index_select(0, seen);
-    std::vector<torch::Tensor> predictions;
+    std::vector<torch::Tensor> predictions, embeddings;
     for (std::int64_t first = 0; first < features.size(0); first += kTestBatch) {
       const torch::Tensor batch = features.narrow(0, first, std::min(kTestBatch, features.size(0) - first));
-      predictions.push_back(method.logits(batch).argmax(1));
+      const torch::Tensor embedding = method.embed(batch);
+      predictions.push_back(method.classify(embedding).argmax(1));
+      embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
     }
-    const torch::Tensor predicted = torch::cat(predictions).contiguous();
-    const torch::Tensor labels = test_labels.index_select(0, seen).contiguous();
-    outcome.accuracy = score_session(
-        std::vector<std::int64_t>(labels.data_ptr<std::int64_t>(), labels.data_ptr<std::int64_t>() + labels.numel()),
-        std::vector<std::int64_t>(predicted.data_ptr<std::int64_t>(),
-                                  predicted.data_ptr<std::int64_t>() + predicted.numel()),
-        plan.base_classes, plan.first_class_of(session), plan.seen_after(session));
+    const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, seen));
+    outcome.accuracy = score_session(labels, to_vector<std::int64_t>(torch::cat(predictions)), plan.base_classes,
+                                     plan.first_class_of(session), plan.seen_after(session));
+    if (!segment_contexts.empty()) {
+      // Measured on unit-length embeddings: the cosine classifier only sees directions.
+      const torch::Tensor all = torch::cat(embeddings);
+      std::vector<int> contexts;
+      for (std::int64_t position : to_vector<std::int64_t>(seen)) contexts.push_back(segment_contexts[schedule.test[position]]);
+      const ContextDispersion dispersion =
+          measure_context_dispersion(to_vector<float>(all), all.size(1), labels, contexts);
+      outcome.context_ratio_mean = dispersion.mean;
+      outcome.context_ratio_max = dispersion.max;
+    }
     outcome.test_seconds = test_clock.seconds();
     if (context.progress != nullptr) {
-      context.progress->note(fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} test samples",
+      context.progress->note(fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} test samples,"
+                                         " context ratio R mean {:.3f} max {:.3f}",
                                          session, outcome.accuracy.all, outcome.accuracy.base, outcome.accuracy.novel,
-                                         outcome.accuracy.samples));
+                                         outcome.accuracy.samples, outcome.context_ratio_mean, outcome.context_ratio_max));
     }
     outcomes.push_back(outcome);
   }

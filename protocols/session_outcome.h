@@ -1,4 +1,6 @@
 #pragma once
+#include <limits>
+
 #include "metrics/session_accuracy.h"
 
 namespace fscil {
@@ -10,6 +12,10 @@ struct SessionOutcome {
   SessionAccuracy accuracy;
   double train_seconds = 0;  // train_base or learn_session
   double test_seconds = 0;
+  // Context-to-class dispersion R of the test embeddings of the seen classes (mean and max over
+  // classes); NaN when the dataset carries no acquisition contexts.
+  double context_ratio_mean = std::numeric_limits<double>::quiet_NaN();
+  double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace fscil

@@ -32,7 +32,50 @@ void split_units(std::vector<Unit> units, std::mt19937_64& generator, std::vecto
   train.assign(units.begin() + n_test + n_validation, units.end());
 }
 
-ClassSplit split_class(const SegmentSet& segments, const std::vector<std::int64_t>& members, SplitMode mode,
+// Recordings marked held_out were acquired in contexts base training must never see.
+std::vector<bool> held_out_recordings(const SegmentSet& segments) {
+  std::vector<bool> held_out(segments.recording_ids.size(), false);
+  const auto name = std::find(segments.context_names.begin(), segments.context_names.end(), "held_out");
+  if (name == segments.context_names.end()) return held_out;
+  const std::size_t column = name - segments.context_names.begin();
+  for (std::size_t r = 0; r < held_out.size(); ++r) {
+    held_out[r] = segments.context_values[r * segments.context_names.size() + column] == 1.0;
+  }
+  return held_out;
+}
+
+// Splits recordings when some are set apart: either the dataset's own test recordings (which
+// become the test part) or held-out contexts (half test, half for the shots of novel classes).
+void split_with_set_apart(std::vector<int> open, std::vector<int> apart, bool apart_is_context, bool base_class,
+                          std::mt19937_64& generator, const std::string& class_name, std::vector<int>& train,
+                          std::vector<int>& validation, std::vector<int>& test) {
+  shuffle_with(open, generator);
+  shuffle_with(apart, generator);
+  if (!apart_is_context) {
+    test = apart;
+  } else {
+    if (apart.size() < 2) {
+      throw ProtocolError(fmt::format("class {}: {} held-out-context recordings, at least 2 needed for shots and test",
+                                      class_name, apart.size()));
+    }
+    const std::size_t n_test = apart.size() / 2;
+    test.assign(apart.begin(), apart.begin() + n_test);
+    if (!base_class) {
+      train.assign(apart.begin() + n_test, apart.end());
+      return;
+    }
+  }
+  if (open.size() < 2) {
+    throw ProtocolError(fmt::format("class {}: {} training recordings, at least 2 needed for train and validation",
+                                    class_name, open.size()));
+  }
+  const int n_validation = share(open.size(), 0.25);
+  validation.assign(open.begin(), open.begin() + n_validation);
+  train.assign(open.begin() + n_validation, open.end());
+}
+
+ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held_out,
+                       const std::vector<std::int64_t>& members, SplitMode mode, bool base_class,
                        std::mt19937_64& generator, const std::string& class_name) {
   ClassSplit split;
   if (mode == SplitMode::segment) {
@@ -45,27 +88,27 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<std::int64_
   }
   std::map<int, std::vector<std::int64_t>> by_recording;
   for (std::int64_t index : members) by_recording[segments.recording_index[index]].push_back(index);
-  std::vector<int> open, held_out;  // held_out: the dataset's own test recordings
+  std::vector<int> open, dataset_test, context_held_out;
   for (const auto& [recording, indices] : by_recording) {
-    (segments.recording_split[recording] == SplitHint::test ? held_out : open).push_back(recording);
+    if (held_out[recording]) {
+      context_held_out.push_back(recording);
+    } else if (segments.recording_split[recording] == SplitHint::test) {
+      dataset_test.push_back(recording);
+    } else {
+      open.push_back(recording);
+    }
   }
   std::vector<int> train, validation, test;
-  if (held_out.empty()) {
+  if (!context_held_out.empty()) {
+    split_with_set_apart(open, context_held_out, true, base_class, generator, class_name, train, validation, test);
+  } else if (!dataset_test.empty()) {
+    split_with_set_apart(open, dataset_test, false, base_class, generator, class_name, train, validation, test);
+  } else {
     if (open.size() < 3) {
       throw ProtocolError(fmt::format("class {}: {} recordings, a split grouped by recording needs at least 3 "
                                       "(or use --split-mode segment)", class_name, open.size()));
     }
     split_units(open, generator, train, validation, test);
-  } else {
-    if (open.size() < 2) {
-      throw ProtocolError(fmt::format("class {}: {} training recordings, at least 2 needed for train and "
-                                      "validation", class_name, open.size()));
-    }
-    shuffle_with(open, generator);
-    const int n_validation = share(open.size(), 0.25);
-    validation.assign(open.begin(), open.begin() + n_validation);
-    train.assign(open.begin() + n_validation, open.end());
-    test = held_out;
   }
   auto gather = [&](const std::vector<int>& recordings, std::vector<std::int64_t>& out) {
     for (int recording : recordings) {
@@ -112,13 +155,14 @@ SessionSchedule build_session_schedule(const SegmentSet& segments, const std::ve
     members[found->second].push_back(i);
   }
 
+  const std::vector<bool> held_out = held_out_recordings(segments);
   for (int p = 0; p < static_cast<int>(members.size()); ++p) {
     const int dataset_class = plan.class_order[p];
     const std::string name = dataset_class < static_cast<int>(class_names.size())
                                  ? class_names[dataset_class] : std::to_string(dataset_class);
     auto split_generator = seeded_generator(seed, SeedPurpose::split, static_cast<std::uint64_t>(dataset_class));
-    ClassSplit split = split_class(segments, members[p], mode, split_generator, name);
     const int session = plan.session_of_class(p);
+    ClassSplit split = split_class(segments, held_out, members[p], mode, session == 0, split_generator, name);
     schedule.test.insert(schedule.test.end(), split.test.begin(), split.test.end());
     if (session == 0) {
       schedule.train[0].insert(schedule.train[0].end(), split.train.begin(), split.train.end());

@@ -24,8 +24,9 @@ struct SessionSchedule {
 };
 
 // Per class 60/20/20 train/validation/test. In recording mode whole recordings go to one side
-// (neighbouring slices leak); a dataset's own test recordings never reach training or shots.
-// Shots are drawn from each novel class's train part with the seed.
+// (neighbouring slices leak); a dataset's own test recordings never reach training or shots;
+// recordings in held-out contexts (context value held_out = 1) feed only the test set and the
+// shots of novel classes. Shots are drawn from each novel class's train part with the seed.
 SessionSchedule build_session_schedule(const SegmentSet& segments, const std::vector<std::string>& class_names,
                                        const SessionPlan& plan, SplitMode mode, std::uint64_t seed);
 

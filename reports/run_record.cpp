@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "reports/atomic_file.h"
@@ -15,6 +16,12 @@ using nlohmann::json;
 
 namespace {
 constexpr int kSchemaVersion = 1;
+
+// JSON has no NaN: unknown values are null.
+json number_or_null(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
+double number_from(const json& value) {
+  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
 
 std::string safe_name(std::string text) {
   for (char& c : text) {
@@ -46,7 +53,9 @@ std::string to_json_text(const RunRecord& record) {
                         {"harmonic_mean", s.accuracy.harmonic},
                         {"test_samples", s.accuracy.samples},
                         {"train_seconds", s.train_seconds},
-                        {"test_seconds", s.test_seconds}});
+                        {"test_seconds", s.test_seconds},
+                        {"context_ratio_mean", number_or_null(s.context_ratio_mean)},
+                        {"context_ratio_max", number_or_null(s.context_ratio_max)}});
   }
   const json document = {{"schema", kSchemaVersion},
                          {"method", record.method},
@@ -95,6 +104,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       session.accuracy.samples = s.at("test_samples").get<std::int64_t>();
       session.train_seconds = s.at("train_seconds").get<double>();
       session.test_seconds = s.at("test_seconds").get<double>();
+      session.context_ratio_mean = number_from(s.at("context_ratio_mean"));
+      session.context_ratio_max = number_from(s.at("context_ratio_max"));
       record.sessions.push_back(session);
     }
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +16,9 @@ struct SessionRecord {
   SessionAccuracy accuracy;
   double train_seconds = 0;
   double test_seconds = 0;
+  // Context-to-class dispersion of the test embeddings; NaN (null in JSON) when unknown.
+  double context_ratio_mean = std::numeric_limits<double>::quiet_NaN();
+  double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Everything one (method, dataset, seed) run produced: the schema of result files, from

@@ -7,6 +7,8 @@
 #include "datasets/dataset_catalog.h"
 #include "methods/method_registry.h"
 #include "protocols/profiles.h"
+#include "reports/atomic_file.h"
+#include "reports/context_analysis.h"
 #include "reports/run_record.h"
 #include "tools/logmel_command.h"
 #include "tools/report_writer.h"
@@ -26,6 +28,13 @@ void print_catalogue() {
 void rebuild_reports(const std::string& results, const std::string& out) {
   const auto records = fscil::load_run_records(results);
   fmt::print("{}", fscil::write_reports(out.empty() ? results : out, records));
+}
+
+void analyze_contexts(const std::string& results, const std::string& out) {
+  const auto records = fscil::load_run_records(results);
+  fscil::write_file_atomically(std::filesystem::path(out.empty() ? results : out) / "context_analysis.csv",
+                               fscil::render_context_analysis_csv(records));
+  fmt::print("{}", fscil::render_context_analysis_markdown(records));
 }
 
 }  // namespace
@@ -71,6 +80,11 @@ int main(int argc, char** argv) {
   report->add_option("--results", results_dir, "directory holding result JSON files")->required();
   report->add_option("--out", report_out, "where to write the tables (default: the results directory)");
 
+  std::string analyze_results, analyze_out;
+  auto* analyze = app.add_subcommand("analyze", "Context-to-class dispersion R per session from result files");
+  analyze->add_option("--results", analyze_results, "directory holding result JSON files")->required();
+  analyze->add_option("--out", analyze_out, "where to write context_analysis.csv (default: the results directory)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (list->parsed()) {
@@ -79,6 +93,8 @@ int main(int argc, char** argv) {
       fscil::run_logmel(logmel);
     } else if (report->parsed()) {
       rebuild_reports(results_dir, report_out);
+    } else if (analyze->parsed()) {
+      analyze_contexts(analyze_results, analyze_out);
     } else {
       if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");

@@ -127,7 +127,7 @@ void run_benchmark(const RunOptions& options) {
       record.dataset_key = dataset.cache_key;
       for (const auto& outcome : outcomes) {
         record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
-                                   outcome.test_seconds});
+                                   outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max});
       }
       record.total_seconds = run_clock.seconds();
       record.peak_resident_bytes = peak_resident_bytes();

@@ -35,9 +35,11 @@ void PrototypeMethod::add_prototypes(const SessionData& data) {
   seen_classes_ += static_cast<std::int64_t>(data.new_classes.size());
 }
 
-torch::Tensor PrototypeMethod::logits(const torch::Tensor& features) {
+torch::Tensor PrototypeMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
+
+torch::Tensor PrototypeMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
-  return classifier_->forward(embed_in_batches(encoder_, features), seen_classes_);
+  return classifier_->forward(embeddings, seen_classes_);
 }
 
 std::unique_ptr<Method> make_prototype_method(const ParameterSet& params) {

@@ -15,7 +15,8 @@ class PrototypeMethod : public Method {
   explicit PrototypeMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
-  torch::Tensor logits(const torch::Tensor& features) override;
+  torch::Tensor embed(const torch::Tensor& features) override;
+  torch::Tensor classify(const torch::Tensor& embeddings) override;
 
  private:
   void add_prototypes(const SessionData& data);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <cstring>
 
 #include "datasets/segmenter.h"
@@ -62,6 +63,119 @@ TEST(Simtex, ZeroContextStrengthSharesOneContextPerClass) {
   config.context_strength = 1.0;
   const auto spread = generate_simtex(config);
   EXPECT_NE(spread[0].context.at("scan_speed"), spread[1].context.at("scan_speed"));
+}
+
+// A single grating with everything else switched off, so one frequency dominates.
+SimtexMaterial grating(double spatial_frequency, double anisotropy = 0.0) {
+  SimtexMaterial material;
+  material.periodic = {{spatial_frequency, 1.0, 0.0}};
+  material.anisotropy = anisotropy;
+  material.roughness_rms = 0;
+  material.stick_slip = 0;
+  material.friction = 0.5;
+  material.compliance = 0.01;
+  return material;
+}
+
+SimtexContext plain_context(double speed, double force, double direction = 0.0) {
+  SimtexContext context;
+  context.scan_speed = speed;
+  context.normal_force = force;
+  context.scan_direction = direction;
+  context.channel_gain.assign(5, 1.0);
+  return context;  // no resonance, noise or drift
+}
+
+std::vector<double> channel_of(const Recording& recording, int channel) {
+  return {recording.signal.begin() + channel * recording.length, recording.signal.begin() + (channel + 1) * recording.length};
+}
+
+double dominant_frequency(std::vector<double> x, double sample_rate) {
+  double mean = 0;
+  for (double v : x) mean += v / x.size();
+  const std::size_t n = x.size();
+  double best = 0, best_frequency = 0;
+  for (std::size_t k = 1; k < n / 2; ++k) {
+    std::complex<double> sum = 0;
+    for (std::size_t j = 0; j < n; ++j) sum += (x[j] - mean) * std::polar(1.0, -2 * M_PI * k * j / n);
+    if (std::abs(sum) > best) best = std::abs(sum), best_frequency = k * sample_rate / n;
+  }
+  return best_frequency;
+}
+
+double ac_rms(const std::vector<double>& x) {
+  double mean = 0, squares = 0;
+  for (double v : x) mean += v / x.size();
+  for (double v : x) squares += (v - mean) * (v - mean);
+  return std::sqrt(squares / x.size());
+}
+
+TEST(SimtexPhysics, DoublingScanSpeedDoublesTheVibrationFrequency) {
+  SimtexConfig config = simtex_mini_config();
+  std::mt19937_64 rng(1);
+  // 2 cycles/mm at 20 mm/s is 40 Hz; at 40 mm/s, 80 Hz.
+  const Recording slow = simulate_recording(config, grating(2.0), plain_context(20, 1), rng);
+  const Recording fast = simulate_recording(config, grating(2.0), plain_context(40, 1), rng);
+  EXPECT_NEAR(dominant_frequency(channel_of(slow, 1), 1000), 40.0, 0.5);
+  EXPECT_NEAR(dominant_frequency(channel_of(fast, 1), 1000), 80.0, 0.5);
+
+  SimtexConfig lmt = simtex_lmt_config();
+  lmt.recording_seconds = 0.5;
+  const Recording slow_lmt = simulate_recording(lmt, grating(10.0), plain_context(20, 1), rng);
+  const Recording fast_lmt = simulate_recording(lmt, grating(10.0), plain_context(40, 1), rng);
+  EXPECT_NEAR(dominant_frequency(channel_of(slow_lmt, 2), 10000), 200.0, 2.0);
+  EXPECT_NEAR(dominant_frequency(channel_of(fast_lmt, 2), 10000), 400.0, 2.0);
+}
+
+// docs/datasets.md: the normal-force vibration grows as F^1.5 (load times a contact stiffness
+// ~ sqrt(F)) and the friction coefficient falls as F^-0.15.
+TEST(SimtexPhysics, ForceScalesVibrationAsFToTheOnePointFiveAndFrictionAsFToMinusPointFifteen) {
+  const SimtexConfig config = simtex_mini_config();
+  std::mt19937_64 rng(1);
+  const Recording light = simulate_recording(config, grating(2.0), plain_context(30, 1), rng);
+  const Recording heavy = simulate_recording(config, grating(2.0), plain_context(30, 2), rng);
+  EXPECT_NEAR(ac_rms(channel_of(heavy, 1)) / ac_rms(channel_of(light, 1)), std::pow(2.0, 1.5), 0.01);
+  auto mean_of = [](const std::vector<double>& x) {
+    double sum = 0;
+    for (double v : x) sum += v;
+    return sum / x.size();
+  };
+  EXPECT_NEAR(mean_of(channel_of(heavy, 2)) / mean_of(channel_of(light, 2)), std::pow(2.0, -0.15), 0.005);
+}
+
+TEST(SimtexPhysics, ScanDirectionChangesTheFrequencyOfAnisotropicTexturesOnly) {
+  const SimtexConfig config = simtex_mini_config();
+  std::mt19937_64 rng(1);
+  // Along a grating's wave vector: 2 cycles/mm; at 60 degrees to it: 2 cos 60 = 1 cycle/mm.
+  const Recording along = simulate_recording(config, grating(2.0, 1.0), plain_context(40, 1, 0.0), rng);
+  const Recording oblique = simulate_recording(config, grating(2.0, 1.0), plain_context(40, 1, M_PI / 3), rng);
+  const Recording isotropic = simulate_recording(config, grating(2.0, 0.0), plain_context(40, 1, M_PI / 3), rng);
+  EXPECT_NEAR(dominant_frequency(channel_of(along, 1), 1000), 80.0, 0.5);
+  EXPECT_NEAR(dominant_frequency(channel_of(oblique, 1), 1000), 40.0, 0.5);
+  EXPECT_NEAR(dominant_frequency(channel_of(isotropic, 1), 1000), 80.0, 0.5);
+}
+
+TEST(SimtexContexts, DeviceShiftReservesOneDeviceForHeldOutRecordings) {
+  SimtexConfig config = simtex_mini_config();
+  config.context_shift = ContextShift::device;
+  ASSERT_EQ(config.held_out_recordings(), 2);
+  for (int y = 0; y < config.classes; ++y) {
+    for (int r = 0; r < config.recordings_per_class; ++r) {
+      const SimtexContext context = simtex_context(config, y, r);
+      EXPECT_EQ(context.held_out, r >= 4);
+      EXPECT_EQ(context.device == config.devices - 1, context.held_out) << "class " << y << " recording " << r;
+    }
+  }
+}
+
+TEST(SimtexContexts, SpeedShiftScansHeldOutRecordingsTwoAndAHalfTimesFaster) {
+  SimtexConfig config = simtex_mini_config();
+  config.context_strength = 0.0;
+  config.context_shift = ContextShift::speed;
+  const double usual = simtex_context(config, 3, 0).scan_speed;
+  EXPECT_DOUBLE_EQ(simtex_context(config, 3, 3).scan_speed, usual);
+  EXPECT_NEAR(simtex_context(config, 3, 5).scan_speed, 2.5 * usual, 1e-9);
+  EXPECT_TRUE(simtex_context(config, 3, 5).held_out);
 }
 
 }  // namespace

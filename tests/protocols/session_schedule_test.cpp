@@ -134,6 +134,36 @@ TEST(SessionSchedule, DatasetTestRecordingsNeverReachTrainingOrShots) {
   for (auto index : schedule.test) EXPECT_EQ(segments.recording_split[segments.recording_index[index]], SplitHint::test);
 }
 
+TEST(SessionSchedule, HeldOutContextsFeedOnlyShotsAndTests) {
+  SegmentSet segments = synthetic_segments(15, 10, 3);
+  segments.context_names = {"device", "held_out"};
+  for (std::size_t r = 0; r < segments.recording_ids.size(); ++r) {
+    const bool held_out = r % 10 >= 6;
+    segments.context_values.push_back(held_out ? 3 : 0);
+    segments.context_values.push_back(held_out ? 1 : 0);
+  }
+  auto held_out = [&](std::int64_t index) { return segments.recording_index[index] % 10 >= 6; };
+  const SessionPlan plan = plan_for(15, {5, 5, 5, 3});
+  const auto schedule = build_session_schedule(segments, names(15), plan, SplitMode::recording, 1);
+  for (auto index : schedule.train[0]) EXPECT_FALSE(held_out(index));
+  for (auto index : schedule.validation) EXPECT_FALSE(held_out(index));
+  for (int s = 1; s < 3; ++s) {
+    ASSERT_EQ(schedule.train[s].size(), 25u);
+    for (auto index : schedule.train[s]) EXPECT_TRUE(held_out(index));
+  }
+  // 4 held-out recordings per class: 2 for the test, 2 for the shots of novel classes.
+  EXPECT_EQ(schedule.test.size(), 15u * 2 * 3);
+  std::set<int> test_recordings, shot_recordings;
+  for (auto index : schedule.test) {
+    EXPECT_TRUE(held_out(index));
+    test_recordings.insert(segments.recording_index[index]);
+  }
+  for (int s = 1; s < 3; ++s) {
+    for (auto index : schedule.train[s]) shot_recordings.insert(segments.recording_index[index]);
+  }
+  for (int recording : shot_recordings) EXPECT_EQ(test_recordings.count(recording), 0u);
+}
+
 TEST(SessionSchedule, SegmentModeSplitsSegmentsSixtyTwentyTwenty) {
   const SegmentSet segments = synthetic_segments(20, 2, 10);
   const auto schedule = build_session_schedule(segments, names(20), plan_for(20, {10, 5, 5, 3}), SplitMode::segment, 1);

@@ -85,6 +85,22 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   std::getline(rebuilt, header);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(rebuilt), {}), first_summary);
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results.tex"));
+
+  // simtex-mini knows its contexts: every session of every run records R, and analyze tabulates it.
+  const CommandResult analyze = run_cli("analyze --results " + out.path().string());
+  ASSERT_EQ(analyze.exit_code, 0) << analyze.output;
+  EXPECT_NE(analyze.output.find("| prototype | simtex-mini |"), std::string::npos) << analyze.output;
+  std::ifstream context_csv(out.path() / "context_analysis.csv");
+  std::string line;
+  int rows = 0;
+  std::getline(context_csv, line);
+  EXPECT_EQ(line, "method,dataset,seeds,AA,session,R_mean,R_max");
+  while (std::getline(context_csv, line)) {
+    ++rows;
+    const double r_mean = std::stod(line.substr(line.rfind(',', line.rfind(',') - 1) + 1));
+    EXPECT_GT(r_mean, 0.0) << line;
+  }
+  EXPECT_EQ(rows, 3);
 }
 
 TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
