@@ -44,27 +44,9 @@ std::vector<bool> held_out_recordings(const SegmentSet& segments) {
   return held_out;
 }
 
-// Splits recordings when some are set apart: either the dataset's own test recordings (which
-// become the test part) or held-out contexts (half test, half for the shots of novel classes).
-void split_with_set_apart(std::vector<int> open, std::vector<int> apart, bool apart_is_context, bool base_class,
-                          std::mt19937_64& generator, const std::string& class_name, std::vector<int>& train,
-                          std::vector<int>& validation, std::vector<int>& test) {
-  shuffle_with(open, generator);
-  shuffle_with(apart, generator);
-  if (!apart_is_context) {
-    test = apart;
-  } else {
-    if (apart.size() < 2) {
-      throw ProtocolError(fmt::format("class {}: {} held-out-context recordings, at least 2 needed for shots and test",
-                                      class_name, apart.size()));
-    }
-    const std::size_t n_test = apart.size() / 2;
-    test.assign(apart.begin(), apart.begin() + n_test);
-    if (!base_class) {
-      train.assign(apart.begin() + n_test, apart.end());
-      return;
-    }
-  }
+// Base-class training recordings, already shuffled: a quarter (at least one) validates, the rest train.
+void split_train_validation(const std::vector<int>& open, const std::string& class_name, std::vector<int>& train,
+                            std::vector<int>& validation) {
   if (open.size() < 2) {
     throw ProtocolError(fmt::format("class {}: {} training recordings, at least 2 needed for train and validation",
                                     class_name, open.size()));
@@ -72,6 +54,26 @@ void split_with_set_apart(std::vector<int> open, std::vector<int> apart, bool ap
   const int n_validation = share(open.size(), 0.25);
   validation.assign(open.begin(), open.begin() + n_validation);
   train.assign(open.begin() + n_validation, open.end());
+}
+
+// Held-out contexts: half of those recordings test, the other half give novel classes their
+// shots; base classes train and validate on the other recordings only.
+void split_around_held_out_contexts(std::vector<int> open, std::vector<int> held_out, bool base_class,
+                                    std::mt19937_64& generator, const std::string& class_name,
+                                    std::vector<int>& train, std::vector<int>& validation, std::vector<int>& test) {
+  shuffle_with(open, generator);
+  shuffle_with(held_out, generator);
+  if (held_out.size() < 2) {
+    throw ProtocolError(fmt::format("class {}: {} held-out-context recordings, at least 2 needed for shots and test",
+                                    class_name, held_out.size()));
+  }
+  const std::size_t n_test = held_out.size() / 2;
+  test.assign(held_out.begin(), held_out.begin() + n_test);
+  if (base_class) {
+    split_train_validation(open, class_name, train, validation);
+  } else {
+    train.assign(held_out.begin() + n_test, held_out.end());
+  }
 }
 
 ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held_out,
@@ -100,9 +102,11 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
   }
   std::vector<int> train, validation, test;
   if (!context_held_out.empty()) {
-    split_with_set_apart(open, context_held_out, true, base_class, generator, class_name, train, validation, test);
+    split_around_held_out_contexts(open, context_held_out, base_class, generator, class_name, train, validation, test);
   } else if (!dataset_test.empty()) {
-    split_with_set_apart(open, dataset_test, false, base_class, generator, class_name, train, validation, test);
+    test = dataset_test;  // the dataset's own test recordings
+    shuffle_with(open, generator);
+    split_train_validation(open, class_name, train, validation);
   } else {
     if (open.size() < 3) {
       throw ProtocolError(fmt::format("class {}: {} recordings, a split grouped by recording needs at least 3 "
