@@ -108,7 +108,9 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       const torch::Tensor batch = features.narrow(0, first, std::min(kTestBatch, features.size(0) - first));
       const torch::Tensor embedding = method.embed(batch);
       predictions.push_back(method.classify(embedding).argmax(1));
-      embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
+      if (!segment_contexts.empty()) {
+        embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
+      }
     }
     const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, seen));
     outcome.accuracy = score_session(labels, to_vector<std::int64_t>(torch::cat(predictions)), plan.base_classes,
@@ -125,10 +127,13 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     }
     outcome.test_seconds = test_clock.seconds();
     if (context.progress != nullptr) {
-      context.progress->note(fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} test samples,"
-                                         " context ratio R mean {:.3f} max {:.3f}",
-                                         session, outcome.accuracy.all, outcome.accuracy.base, outcome.accuracy.novel,
-                                         outcome.accuracy.samples, outcome.context_ratio_mean, outcome.context_ratio_max));
+      std::string line = fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} test samples",
+                                     session, outcome.accuracy.all, outcome.accuracy.base, outcome.accuracy.novel,
+                                     outcome.accuracy.samples);
+      if (!segment_contexts.empty()) {
+        line += fmt::format(", context ratio R mean {:.3f} max {:.3f}", outcome.context_ratio_mean, outcome.context_ratio_max);
+      }
+      context.progress->note(line);
     }
     outcomes.push_back(outcome);
   }
