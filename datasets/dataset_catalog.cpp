@@ -8,6 +8,10 @@
 #include "datasets/dataset_error.h"
 #include "datasets/feature_cache.h"
 #include "datasets/log_mel_extractor.h"
+#include "datasets/readers/audio_adapters.h"
+#include "datasets/readers/folder_adapter.h"
+#include "datasets/readers/lmt108_adapter.h"
+#include "datasets/readers/scanned_recordings.h"
 #include "datasets/simtex.h"
 #include "protocols/parameter_set.h"
 
@@ -15,11 +19,14 @@ namespace fscil {
 
 namespace {
 
+namespace fs = std::filesystem;
+
 struct RealDataset {
   const char* name;
   const char* summary;
   const char* where;
   const char* layout;
+  DatasetScan (*scan)(const fs::path& root, const ParameterSet& params);
 };
 
 // Where each real dataset is published and which layout its adapter reads (PROTOCOLS.md).
@@ -27,18 +34,24 @@ const RealDataset kRealDatasets[] = {
     {"haptex", "HapTex fabrics: 120 classes, 5 channels at 1 kHz, 0.5 s segments (real data)",
      "the HapTex database of fabric textures (Jiao et al., IEEE World Haptics 2019)",
      "a generic tactile folder: dataset.json + manifest.csv (file,class,group,recording) + one CSV per "
-     "recording with columns friction_force,normal_force,friction_coefficient,displacement,velocity"},
+     "recording with columns friction_force,normal_force,friction_coefficient,displacement,velocity (docs/datasets.md)",
+     [](const fs::path& root, const ParameterSet&) { return scan_haptex(root); }},
     {"lmt108", "LMT108 surfaces: 108 classes, 3-axis acceleration at 10 kHz, 0.8 s segments (real data)",
      "the LMT Haptic Texture Database v1.1 (Strese et al., 2017)",
-     "AccelScansComponents/Movement/{Training,Testing}/<Material>_Movement_{X,Y,Z}_{train,test}{1..10}.txt"},
+     "AccelScansComponents/Movement/{Training,Testing}/<Material>_Movement_{X,Y,Z}_{train,test}{1..10}.txt",
+     scan_lmt108},
     {"ls100", "LS-100 speakers: 100 classes of 2 s LibriSpeech clips at 16 kHz (real data)",
      "LS-100 as built by the FSCIL audio benchmarks from LibriSpeech",
-     "train/val/test CSVs with filename,speaker_id,label and the WAV files they name"},
+     "librispeech_fscil_{train,val,test}.csv with filename,speaker_id,label and the WAV files they name",
+     [](const fs::path& root, const ParameterSet&) { return scan_ls100(root); }},
     {"ns100", "NS-100 instruments: 100 classes of 4 s NSynth notes at 16 kHz (real data)",
      "NS-100 as built by the FSCIL audio benchmarks from NSynth",
-     "meta CSVs (filename,instrument,audio_source), vocab.json, <root>/<audio_source>/audio/<filename>.wav"},
+     "nsynth-100-fs-meta/nsynth-100-fs_{train,val,test}.csv (filename,instrument,audio_source), "
+     "nsynth-100-fs-meta/nsynth-100-fs_vocab.json, <root>/<audio_source>/audio/<filename>.wav",
+     [](const fs::path& root, const ParameterSet&) { return scan_ns100(root); }},
     {"folder", "any tactile recordings laid out as dataset.json + manifest.csv + per-recording CSV/TXT",
-     "your own lab", "dataset.json + manifest.csv (file,class,group,recording[,split][,context])"},
+     "your own lab", "dataset.json + manifest.csv (file,class,group,recording[,split][,context]) (docs/datasets.md)",
+     [](const fs::path& root, const ParameterSet&) { return scan_tactile_folder(root); }},
 };
 
 struct SimulatedDataset {
@@ -59,11 +72,35 @@ const SimulatedDataset kSimulatedDatasets[] = {
      simtex_mini_config, "haptex", 0.5, {10, 5, 5, 3}},
 };
 
-LogMelSettings front_end_from(const std::string& preset, const ParameterSet& params) {
-  LogMelSettings settings = log_mel_preset(preset);
+LogMelSettings with_mel_options(LogMelSettings settings, const ParameterSet& params) {
   settings.scale = parse_mel_scale(params.choice("mel_scale", "htk", {"htk", "slaney"}));
   settings.norm = parse_mel_norm(params.choice("mel_norm", "none", {"none", "slaney"}));
   return settings;
+}
+
+// Loads the features of `description` from the cache, or makes the recordings, cuts and
+// transforms them and stores the result. Nothing is stored unless every step succeeded.
+PreparedDataset prepare_with_cache(const DatasetDescription& description, const DatasetRequest& request,
+                                   std::ostream& log, const std::function<std::vector<Recording>()>& make_recordings) {
+  const LogMelExtractor extractor(description.front_end);
+  if (extractor.empty_filters() > 0) {
+    fmt::print(log, "warning: {} of {} Mel filters are empty at n_fft={} (as torchaudio warns); "
+               "their rows stay at -100 dB\n", extractor.empty_filters(), description.front_end.n_mels,
+               description.front_end.n_fft);
+  }
+  const FeatureCache cache(request.cache_dir);
+  if (!request.cache_dir.empty()) {
+    std::string problem;
+    if (auto cached = cache.load(description, &problem)) return std::move(*cached);
+    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
+  }
+  PreparedDataset dataset;
+  dataset.description = description;
+  dataset.cache_key = FeatureCache::key_for(description);
+  dataset.segments = segment_recordings(make_recordings(), description.segment);
+  dataset.features = extractor.extract(dataset.segments.signals, request.threads);
+  if (!request.cache_dir.empty()) cache.store(dataset);
+  return dataset;
 }
 
 PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequest& request,
@@ -84,30 +121,28 @@ PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequ
   for (int g = 0; g < config.groups; ++g) description.group_names.push_back(fmt::format("family{:02d}", g));
   const auto segment_length = static_cast<std::int64_t>(entry.segment_seconds * config.sample_rate);
   description.segment = {segment_length, segment_length, 0};
-  description.front_end = front_end_from(entry.preset, params);
+  description.front_end = with_mel_options(log_mel_preset(entry.preset), params);
   description.sessions = entry.sessions;
   description.source = config.describe();
+  return prepare_with_cache(description, request, log,
+                            [&] { return generate_simtex(config, request.threads); });
+}
 
-  const LogMelExtractor extractor(description.front_end);
-  if (extractor.empty_filters() > 0) {
-    fmt::print(log, "warning: {} of {} Mel filters are empty at n_fft={} (as torchaudio warns); "
-               "their rows stay at -100 dB\n", extractor.empty_filters(), description.front_end.n_mels,
-               description.front_end.n_fft);
+PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& request, const ParameterSet& params,
+                           std::ostream& log) {
+  if (request.data_root.empty()) {
+    throw DatasetError(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
+                                   "and lay it out as {}", entry.name, entry.where, entry.layout));
   }
-  const FeatureCache cache(request.cache_dir);
-  if (!request.cache_dir.empty()) {
-    std::string problem;
-    if (auto cached = cache.load(description, &problem)) return std::move(*cached);
-    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
+  if (!fs::is_directory(request.data_root)) {
+    throw DatasetError(fmt::format("--data-root {}: no such directory (expected {})", request.data_root.string(),
+                                   entry.layout));
   }
-
-  PreparedDataset dataset;
-  dataset.description = description;
-  dataset.cache_key = FeatureCache::key_for(description);
-  dataset.segments = segment_recordings(generate_simtex(config, request.threads), description.segment);
-  dataset.features = extractor.extract(dataset.segments.signals, request.threads);
-  if (!request.cache_dir.empty()) cache.store(dataset);
-  return dataset;
+  DatasetScan scan = entry.scan(fs::canonical(request.data_root), params);
+  DatasetDescription& description = scan.description;
+  description.front_end = with_mel_options(description.front_end, params);
+  description.source += fmt::format(" root={} {}", scan.root.string(), fingerprint_of(scan));
+  return prepare_with_cache(description, request, log, [&] { return read_recordings(scan, request.threads); });
 }
 
 }  // namespace
@@ -125,17 +160,7 @@ PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& r
     if (name == entry.name) return build_simulated(entry, request, params, log);
   }
   for (const auto& entry : kRealDatasets) {
-    if (name != entry.name) continue;
-    if (request.data_root.empty()) {
-      throw DatasetError(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
-                                     "and lay it out as {}", name, entry.where, entry.layout));
-    }
-    if (!std::filesystem::is_directory(request.data_root)) {
-      throw DatasetError(fmt::format("--data-root {}: no such directory (expected {})",
-                                     request.data_root.string(), entry.layout));
-    }
-    throw DatasetError(fmt::format("dataset '{}': the reader for its real layout is not built yet "
-                                   "(tracked as the real-data adapters issue); use simtex meanwhile", name));
+    if (name == entry.name) return build_real(entry, request, params, log);
   }
   std::vector<std::string> names;
   for (const auto& entry : dataset_catalog()) names.push_back(entry.name);

@@ -15,9 +15,12 @@ constexpr int kCacheFormat = 1;
 std::vector<std::int32_t> to_int32(const std::vector<int>& values) { return {values.begin(), values.end()}; }
 std::vector<int> to_int(const std::vector<std::int32_t>& values) { return {values.begin(), values.end()}; }
 
-int split_code(SplitHint hint) { return hint == SplitHint::train ? 1 : hint == SplitHint::test ? 2 : 0; }
+int split_code(SplitHint hint) { return static_cast<int>(hint); }
 SplitHint split_from_code(int code) {
-  return code == 1 ? SplitHint::train : code == 2 ? SplitHint::test : SplitHint::none;
+  if (code < 0 || code > static_cast<int>(SplitHint::validation)) {
+    throw DatasetError(fmt::format("recording split code {}: expected 0 to 3", code));
+  }
+  return static_cast<SplitHint>(code);
 }
 }  // namespace
 

@@ -20,6 +20,7 @@ struct DatasetDescription {
   std::string name;
   double sample_rate = 0;
   std::vector<std::string> channel_names;
+  int channel_repeat = 1;  // the model sees each stored channel this many times (mono audio -> 3)
   std::vector<std::string> class_names;
   std::vector<std::string> group_names;
   SegmentSpec segment;

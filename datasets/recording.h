@@ -6,9 +6,9 @@
 
 namespace fscil {
 
-// Which side of a dataset's own train/test division a recording belongs to, when it has one
-// (LMT108 ships separate training and testing recordings).
-enum class SplitHint { none, train, test };
+// Which side of a dataset's own division a recording belongs to, when it has one (LMT108 ships
+// training and testing recordings; LS-100 and NS-100 ship train/validation/test lists).
+enum class SplitHint { none, train, test, validation };
 
 // One continuous acquisition: a C x L signal of one class under one acquisition context.
 struct Recording {

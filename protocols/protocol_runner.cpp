@@ -13,10 +13,16 @@ namespace fscil {
 
 namespace {
 
-torch::Tensor rows_of(const FloatArray& array, const torch::Tensor& index) {
+// Rows of a N x C x ... array; with channel_repeat > 1 (mono stored once) the channel axis is an
+// expanded view, so the repeat costs no memory until a batch is gathered from it.
+torch::Tensor rows_of(const FloatArray& array, const torch::Tensor& index, int channel_repeat) {
   // from_blob wraps the dataset's memory without copying; index_select makes the owned copy.
   const torch::Tensor all = torch::from_blob(const_cast<float*>(array.values.data()), array.shape, torch::kFloat);
-  return all.index_select(0, index);
+  torch::Tensor rows = all.index_select(0, index);
+  if (channel_repeat == 1) return rows;
+  std::vector<std::int64_t> shape = rows.sizes().vec();
+  shape[1] *= channel_repeat;
+  return rows.expand(shape);
 }
 
 constexpr std::int64_t kTestBatch = 512;
@@ -53,7 +59,8 @@ std::vector<T> to_vector(const torch::Tensor& tensor) {
 
 InputShape input_shape_of(const PreparedDataset& dataset) {
   const auto& features = dataset.features.shape;
-  return {features[1], features[2], features[3], dataset.segments.signals.shape[2]};
+  return {features[1] * dataset.description.channel_repeat, features[2], features[3],
+          dataset.segments.signals.shape[2]};
 }
 
 SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule& schedule,
@@ -61,8 +68,9 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
   const torch::Tensor index = torch::tensor(indices, torch::kLong);
   SessionData data;
   data.session = session;
-  data.features = rows_of(dataset.features, index);
-  data.signals = rows_of(dataset.segments.signals, index);
+  const int repeat = dataset.description.channel_repeat;
+  data.features = rows_of(dataset.features, index, repeat);
+  data.signals = rows_of(dataset.segments.signals, index, repeat);
   data.labels = torch::tensor(schedule.labels_of(indices), torch::kLong);
   const SessionPlan& plan = schedule.plan;
   for (int c = plan.first_class_of(session); c < plan.seen_after(session); ++c) data.new_classes.push_back(c);
@@ -74,7 +82,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const torch::Tensor test_index = torch::tensor(schedule.test, torch::kLong);
-  const torch::Tensor test_features = rows_of(dataset.features, test_index);
+  const torch::Tensor test_features = rows_of(dataset.features, test_index, dataset.description.channel_repeat);
   const torch::Tensor test_labels = torch::tensor(schedule.labels_of(schedule.test), torch::kLong);
   context.validation = &validation;
   context.total_classes = plan.total_classes();

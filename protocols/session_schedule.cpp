@@ -90,12 +90,14 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
   }
   std::map<int, std::vector<std::int64_t>> by_recording;
   for (std::int64_t index : members) by_recording[segments.recording_index[index]].push_back(index);
-  std::vector<int> open, dataset_test, context_held_out;
+  std::vector<int> open, dataset_test, dataset_validation, context_held_out;
   for (const auto& [recording, indices] : by_recording) {
     if (held_out[recording]) {
       context_held_out.push_back(recording);
     } else if (segments.recording_split[recording] == SplitHint::test) {
       dataset_test.push_back(recording);
+    } else if (segments.recording_split[recording] == SplitHint::validation) {
+      dataset_validation.push_back(recording);
     } else {
       open.push_back(recording);
     }
@@ -103,6 +105,16 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
   std::vector<int> train, validation, test;
   if (!context_held_out.empty()) {
     split_around_held_out_contexts(open, context_held_out, base_class, generator, class_name, train, validation, test);
+  } else if (!dataset_validation.empty()) {
+    // The dataset's own lists (LS-100, NS-100): train, validation and test as published.
+    if (dataset_test.empty() || open.empty()) {
+      throw ProtocolError(fmt::format("class {}: the dataset lists {} validation, {} test and {} training recordings; "
+                                      "at least one of each is needed", class_name, dataset_validation.size(),
+                                      dataset_test.size(), open.size()));
+    }
+    train = open;
+    validation = dataset_validation;
+    test = dataset_test;
   } else if (!dataset_test.empty()) {
     test = dataset_test;  // the dataset's own test recordings
     shuffle_with(open, generator);

@@ -24,7 +24,8 @@ struct SessionSchedule {
 };
 
 // Per class 60/20/20 train/validation/test. In recording mode whole recordings go to one side
-// (neighbouring slices leak); a dataset's own test recordings never reach training or shots;
+// (neighbouring slices leak); a dataset's own test recordings never reach training or shots, and
+// its own validation recordings, when it lists them, are the validation split;
 // recordings in held-out contexts (context value held_out = 1) feed only the test set and the
 // shots of novel classes. Shots are drawn from each novel class's train part with the seed.
 SessionSchedule build_session_schedule(const SegmentSet& segments, const std::vector<std::string>& class_names,

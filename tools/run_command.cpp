@@ -82,15 +82,22 @@ void run_benchmark(const RunOptions& options) {
   progress.stage(fmt::format("preparing dataset {}", options.dataset));
   Stopwatch dataset_clock;
   const PreparedDataset dataset = prepare_dataset(options.dataset, request, dataset_params, std::cerr);
-  progress.note(fmt::format("{} segments of shape {} ready in {:.1f}s", dataset.segments.count(),
-                            fmt::join(dataset.features.shape.begin() + 1, dataset.features.shape.end(), "x"),
-                            dataset_clock.seconds()));
+  const InputShape input = input_shape_of(dataset);
+  progress.note(fmt::format("{} segments of shape {}x{}x{} ready in {:.1f}s", dataset.segments.count(), input.channels,
+                            input.mel_bins, input.frames, dataset_clock.seconds()));
 
   std::vector<SessionSchedule> schedules;
   for (std::uint64_t seed : seeds) {
     const SessionPlan plan = make_session_plan(static_cast<int>(dataset.description.class_names.size()),
                                                dataset.description.sessions, protocol_params, seed);
-    schedules.push_back(build_session_schedule(dataset.segments, dataset.description.class_names, plan, split_mode, seed));
+    try {
+      schedules.push_back(build_session_schedule(dataset.segments, dataset.description.class_names, plan, split_mode,
+                                                 seed));
+    } catch (const ProtocolError& error) {
+      const std::string where = options.data_root.empty() ? "" : fmt::format(" in {}", options.data_root);
+      throw ProtocolError(fmt::format("dataset {}{}, {}-way {}-shot: {}", options.dataset, where, plan.way, plan.shot,
+                                      error.what()));
+    }
   }
   std::vector<const ParameterSet*> readers = {&protocol_params, &dataset_params};
   for (const auto& method_param : method_params) readers.push_back(&method_param);

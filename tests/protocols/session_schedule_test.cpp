@@ -134,6 +134,25 @@ TEST(SessionSchedule, DatasetTestRecordingsNeverReachTrainingOrShots) {
   for (auto index : schedule.test) EXPECT_EQ(segments.recording_split[segments.recording_index[index]], SplitHint::test);
 }
 
+TEST(SessionSchedule, ListedTrainValidationAndTestAreKeptAsPublished) {
+  SegmentSet segments = synthetic_segments(15, 8, 1);  // one clip per recording, as in LS-100
+  const SplitHint listed[8] = {SplitHint::train, SplitHint::train, SplitHint::train, SplitHint::train,
+                               SplitHint::train, SplitHint::validation, SplitHint::test, SplitHint::test};
+  for (std::size_t r = 0; r < segments.recording_split.size(); ++r) segments.recording_split[r] = listed[r % 8];
+  const SessionPlan plan = plan_for(15, {5, 5, 3, 3});
+  const auto schedule = build_session_schedule(segments, names(15), plan, SplitMode::recording, 1);
+  auto split_of = [&](std::int64_t index) { return segments.recording_split[segments.recording_index[index]]; };
+  EXPECT_EQ(schedule.train[0].size(), 5u * 5u);  // every listed training clip of the base classes
+  for (const auto& session : schedule.train) {
+    for (auto index : session) EXPECT_EQ(split_of(index), SplitHint::train);
+  }
+  EXPECT_EQ(schedule.train[1].size(), 5u * 3u);
+  EXPECT_EQ(schedule.validation.size(), 5u);
+  for (auto index : schedule.validation) EXPECT_EQ(split_of(index), SplitHint::validation);
+  EXPECT_EQ(schedule.test.size(), 15u * 2u);
+  for (auto index : schedule.test) EXPECT_EQ(split_of(index), SplitHint::test);
+}
+
 TEST(SessionSchedule, HeldOutContextsFeedOnlyShotsAndTests) {
   SegmentSet segments = synthetic_segments(15, 10, 3);
   segments.context_names = {"device", "held_out"};

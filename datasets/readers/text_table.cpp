@@ -1,0 +1,144 @@
+#include "datasets/readers/text_table.h"
+
+#include <fmt/format.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+
+#include "datasets/dataset_error.h"
+
+namespace fscil {
+
+namespace {
+
+std::string trimmed(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos) return {};
+  const auto last = text.find_last_not_of(" \t\r\n");
+  return text.substr(first, last - first + 1);
+}
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.push_back(trimmed(field));
+      field.clear();
+    } else {
+      field += c;
+    }
+  }
+  fields.push_back(trimmed(field));
+  return fields;
+}
+
+std::ifstream open_or_throw(const std::filesystem::path& path) {
+  if (!std::filesystem::is_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
+  std::ifstream in(path);
+  if (!in) throw DatasetError(fmt::format("{}: cannot be opened for reading", path.string()));
+  return in;
+}
+
+bool blank(const std::string& line) { return line.find_first_not_of(" \t\r\n") == std::string::npos; }
+
+}  // namespace
+
+std::size_t TextTable::column(const std::string& name) const {
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    if (header[c] == name) return c;
+  }
+  throw DatasetError(fmt::format("{}: no column '{}' in the header (it has {})", path.string(), name,
+                                 fmt::join(header, ",")));
+}
+
+bool TextTable::has_column(const std::string& name) const {
+  for (const auto& column_name : header) {
+    if (column_name == name) return true;
+  }
+  return false;
+}
+
+TextTable read_text_table(const std::filesystem::path& path) {
+  std::ifstream in = open_or_throw(path);
+  TextTable table;
+  table.path = path;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (blank(line)) continue;
+    auto fields = split_fields(line);
+    if (table.header.empty()) {
+      table.header = std::move(fields);
+      continue;
+    }
+    if (fields.size() != table.header.size()) {
+      throw DatasetError(fmt::format("{}:{}: {} fields, expected {} like the header ({})", path.string(),
+                                     line_number, fields.size(), table.header.size(), fmt::join(table.header, ",")));
+    }
+    table.rows.push_back(std::move(fields));
+    table.line_of_row.push_back(line_number);
+  }
+  if (table.header.empty()) throw DatasetError(fmt::format("{}: empty file, expected a header row", path.string()));
+  return table;
+}
+
+float parse_finite_float(const std::string& field, const std::string& where) {
+  float value = 0;
+  const char* first = field.data();
+  const char* last = field.data() + field.size();
+  if (first != last && *first == '+') ++first;
+  const auto [end, error] = std::from_chars(first, last, value);
+  if (field.empty() || error != std::errc() || end != last) {
+    throw DatasetError(fmt::format("{}: '{}' is not a number", where, field));
+  }
+  if (!std::isfinite(value)) throw DatasetError(fmt::format("{}: {} found, expected a finite number", where, field));
+  return value;
+}
+
+SignalData read_single_column(const std::filesystem::path& path) {
+  std::ifstream in = open_or_throw(path);
+  SignalData signal;
+  signal.channels = 1;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (blank(line)) continue;
+    const std::string field = trimmed(line);
+    if (field.find_first_of(",; \t") != std::string::npos) {
+      throw DatasetError(fmt::format("{}:{}: '{}' holds several values, expected one number per line", path.string(),
+                                     line_number, field));
+    }
+    signal.values.push_back(parse_finite_float(field, fmt::format("{}:{}", path.string(), line_number)));
+  }
+  if (signal.values.empty()) throw DatasetError(fmt::format("{}: empty file, expected one number per line", path.string()));
+  signal.length = static_cast<std::int64_t>(signal.values.size());
+  return signal;
+}
+
+SignalData read_signal_csv(const std::filesystem::path& path, const std::vector<std::string>& channels) {
+  const TextTable table = read_text_table(path);
+  std::vector<std::size_t> columns;
+  for (const auto& name : channels) columns.push_back(table.column(name));
+  if (table.rows.empty()) throw DatasetError(fmt::format("{}: a header but no samples", path.string()));
+
+  SignalData signal;
+  signal.channels = static_cast<std::int64_t>(channels.size());
+  signal.length = static_cast<std::int64_t>(table.rows.size());
+  signal.values.resize(static_cast<std::size_t>(signal.channels * signal.length));
+  for (std::size_t r = 0; r < table.rows.size(); ++r) {
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const std::string where = fmt::format("{}:{} column {}", path.string(), table.line_of_row[r], channels[k]);
+      signal.values[k * table.rows.size() + r] = parse_finite_float(table.rows[r][columns[k]], where);
+    }
+  }
+  return signal;
+}
+
+}  // namespace fscil
