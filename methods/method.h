@@ -2,6 +2,7 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct RunContext {
   int total_classes = 0;  // classes of the whole protocol: classifier rows to allocate
   int base_classes = 0;
   InputShape input;
+  // The dataset's log-Mel front end: N x C x L raw signals -> N x C x n_mels x frames, for
+  // methods that transform raw signals during training (PITS-SC mixes them).
+  std::function<torch::Tensor(const torch::Tensor&)> front_end;
   const SessionData* validation = nullptr;
   ProgressReporter* progress = nullptr;
 };

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "methods/method.h"
+#include "methods/pits_sc/pits_sc_method.h"
 #include "methods/prototype/prototype_method.h"
 
 namespace fscil {
@@ -13,6 +14,8 @@ const std::vector<MethodEntry>& method_registry() {
   static const std::vector<MethodEntry> table = {
       {"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
        &make_prototype_method},
+      {"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, stochastic "
+       "classifier fine-tuned per session", &make_pits_sc_method},
   };
   return table;
 }

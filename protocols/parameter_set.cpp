@@ -11,7 +11,15 @@
 
 namespace fscil {
 
-void ParameterSet::set(const std::string& key, const std::string& value) { values_[key] = value; }
+void ParameterSet::set(const std::string& key, const std::string& value) {
+  values_[key] = value;
+  defaults_.erase(key);
+}
+
+void ParameterSet::set_default(const std::string& key, const std::string& value) {
+  values_[key] = value;
+  defaults_.insert(key);
+}
 
 void ParameterSet::set_assignment(const std::string& assignment) {
   const auto equals = assignment.find('=');
@@ -101,7 +109,7 @@ std::string ParameterSet::choice(const std::string& key, const std::string& fall
 std::vector<std::string> ParameterSet::unread_keys() const {
   std::vector<std::string> unread;
   for (const auto& [key, value] : values_) {
-    if (used_.count(key) == 0) unread.push_back(key);
+    if (used_.count(key) == 0 && defaults_.count(key) == 0) unread.push_back(key);
   }
   return unread;
 }

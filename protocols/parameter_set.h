@@ -13,6 +13,9 @@ namespace fscil {
 class ParameterSet {
  public:
   void set(const std::string& key, const std::string& value);
+  // A value a profile or dataset supplies for whichever method reads it: unlike set(), it is not
+  // reported by unread_keys() when nothing reads it. A later set() makes it explicit.
+  void set_default(const std::string& key, const std::string& value);
   // Parses "key=value"; throws ProtocolError naming the text when malformed.
   void set_assignment(const std::string& assignment);
   bool contains(const std::string& key) const;
@@ -38,6 +41,7 @@ class ParameterSet {
   void remember(const std::string& key, const std::string& value) const;
 
   std::map<std::string, std::string> values_;
+  std::set<std::string> defaults_;  // keys whose value came from set_default()
   mutable std::map<std::string, std::string> used_;
 };
 

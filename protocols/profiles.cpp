@@ -12,10 +12,11 @@ namespace fscil {
 const std::vector<Profile>& profiles() {
   static const std::vector<Profile> table = {
       {"smoke", "whole protocol in seconds per method (tests); use with simtex-mini",
-       {{"pretrain_epochs", "3"}, {"lr_step", "2"}}},
+       {{"pretrain_epochs", "3"}, {"lr_step", "2"}, {"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}},
       {"fast", "default: every method of the main README job within 20 minutes on 2 cores",
-       {{"pretrain_epochs", "8"}, {"lr_step", "4"}}},
-      {"paper", "the paper's schedule (100 pretraining epochs, lr halved every 40)", {}},
+       {{"pretrain_epochs", "8"}, {"lr_step", "4"}, {"pit_epochs", "2"}}},
+      {"paper", "the paper's schedule (100/10/200 epochs of pretraining, pseudo-incremental training and "
+       "session fine-tuning; lr halved every 40)", {}},
   };
   return table;
 }
@@ -23,12 +24,25 @@ const std::vector<Profile>& profiles() {
 void apply_profile(const std::string& name, ParameterSet& params) {
   for (const auto& profile : profiles()) {
     if (name != profile.name) continue;
-    for (const auto& [key, value] : profile.settings) params.set(key, value);
+    for (const auto& [key, value] : profile.settings) params.set_default(key, value);
     return;
   }
   std::vector<std::string> names;
   for (const auto& profile : profiles()) names.emplace_back(profile.name);
   throw ProtocolError(fmt::format("unknown profile '{}': expected one of {}", name, fmt::join(names, ", ")));
+}
+
+void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
+  static const std::vector<std::pair<const char*, std::vector<std::pair<const char*, const char*>>>> table = {
+      {"ls100", {{"pretrain_epochs", "10"}, {"pit_epochs", "10"}, {"epochs_new", "100"}, {"pretrain_lr", "0.1"},
+                 {"pit_lr", "0.01"}, {"lr_new", "0.1"}, {"p_cutmix", "0.6"}, {"pit_alpha", "0.8"}}},
+      {"ns100", {{"pretrain_epochs", "40"}, {"pit_epochs", "40"}, {"epochs_new", "200"}, {"pretrain_lr", "0.1"},
+                 {"pit_lr", "0.1"}, {"lr_new", "0.01"}, {"p_cutmix", "0.0"}, {"pit_alpha", "3.0"}}},
+  };
+  for (const auto& [name, settings] : table) {
+    if (dataset != name) continue;
+    for (const auto& [key, value] : settings) params.set_default(key, value);
+  }
 }
 
 }  // namespace fscil

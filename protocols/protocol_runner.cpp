@@ -6,6 +6,7 @@
 #include <cmath>
 #include <map>
 
+#include "datasets/log_mel_extractor.h"
 #include "metrics/context_dispersion.h"
 #include "metrics/resource_usage.h"
 
@@ -49,6 +50,18 @@ std::vector<int> context_ids(const SegmentSet& segments) {
   return per_segment;
 }
 
+// The dataset's front end on tensors, for methods that transform raw signals while training.
+std::function<torch::Tensor(const torch::Tensor&)> tensor_front_end(const LogMelSettings& settings) {
+  auto extractor = std::make_shared<const LogMelExtractor>(settings);
+  return [extractor](const torch::Tensor& signals) {
+    const torch::Tensor input = signals.to(torch::kFloat).contiguous();
+    FloatArray array(input.sizes().vec());
+    std::copy(input.data_ptr<float>(), input.data_ptr<float>() + input.numel(), array.values.begin());
+    FloatArray features = extractor->extract(array, torch::get_num_threads());
+    return torch::from_blob(features.values.data(), features.shape, torch::kFloat).clone();
+  };
+}
+
 template <typename T>
 std::vector<T> to_vector(const torch::Tensor& tensor) {
   const torch::Tensor contiguous = tensor.contiguous();
@@ -88,6 +101,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   context.total_classes = plan.total_classes();
   context.base_classes = plan.base_classes;
   context.input = input_shape_of(dataset);
+  context.front_end = tensor_front_end(dataset.description.front_end);
 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
   std::vector<SessionOutcome> outcomes;

@@ -32,6 +32,7 @@ fs::path default_cache_dir() {
 
 ParameterSet base_parameters(const RunOptions& options) {
   ParameterSet params;
+  apply_dataset_defaults(options.dataset, params);
   apply_profile(options.profile, params);
   params.set("split_mode", options.split_mode);
   params.set("class_order", options.class_order);

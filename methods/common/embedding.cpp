@@ -20,16 +20,20 @@ torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& fe
   return torch::cat(parts);
 }
 
-torch::Tensor normalized_class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
-                                     const std::vector<std::int64_t>& classes) {
-  const torch::Tensor normalized = F::normalize(embeddings, F::NormalizeFuncOptions().dim(1));
+torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                          const std::vector<std::int64_t>& classes) {
   std::vector<torch::Tensor> means;
   for (std::int64_t label : classes) {
     const torch::Tensor mask = labels == label;
     if (mask.sum().item<std::int64_t>() == 0) throw MethodError(fmt::format("class {} has no samples to average", label));
-    means.push_back(normalized.index({mask}).mean(0));
+    means.push_back(embeddings.index({mask}).mean(0));
   }
   return torch::stack(means);
+}
+
+torch::Tensor normalized_class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                     const std::vector<std::int64_t>& classes) {
+  return class_means(F::normalize(embeddings, F::NormalizeFuncOptions().dim(1)), labels, classes);
 }
 
 }  // namespace fscil

@@ -11,6 +11,10 @@ namespace fscil {
 // Embeds in eval mode without gradients, in batches to bound memory; restores the train flag.
 torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& features, std::int64_t batch_size = 256);
 
+// Mean embedding per class, rows in the order of `classes`.
+torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                          const std::vector<std::int64_t>& classes);
+
 // Mean of L2-normalised embeddings per class, rows in the order of `classes`.
 torch::Tensor normalized_class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
                                      const std::vector<std::int64_t>& classes);

@@ -26,23 +26,26 @@ SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params) {
   return schedule;
 }
 
-double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& data,
-                        std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
-                        const std::string& phase) {
-  std::vector<torch::Tensor> parameters = encoder->parameters();
-  for (const auto& parameter : classifier->parameters()) parameters.push_back(parameter);
-  torch::optim::SGD optimizer(parameters, torch::optim::SGDOptions(schedule.learning_rate)
-                                              .momentum(schedule.momentum)
-                                              .nesterov(true)
-                                              .weight_decay(schedule.weight_decay));
-  encoder->train();
-  classifier->train();
+torch::optim::SGD make_nesterov_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule) {
+  return torch::optim::SGD(parameters, torch::optim::SGDOptions(schedule.learning_rate)
+                                           .momentum(schedule.momentum)
+                                           .nesterov(true)
+                                           .weight_decay(schedule.weight_decay));
+}
+
+void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch) {
+  const double rate = schedule.learning_rate * std::pow(schedule.lr_gamma, epoch / schedule.lr_step);
+  for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
+}
+
+double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
+                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase) {
+  torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
   const std::int64_t samples = data.features.size(0);
   std::vector<std::int64_t> order(samples);
   double last_loss = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
-    const double rate = schedule.learning_rate * std::pow(schedule.lr_gamma, epoch / schedule.lr_step);
-    for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
+    set_epoch_learning_rate(optimizer, schedule, epoch);
     std::iota(order.begin(), order.end(), 0);
     shuffle_with(order, context.generator);
     double loss_sum = 0;
@@ -51,8 +54,7 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
       const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
       if (size < 2) break;  // BatchNorm cannot train on a single sample
       const torch::Tensor index = torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
-      const torch::Tensor logits = classifier->forward(encoder->forward(data.features.index_select(0, index)), classes);
-      const torch::Tensor loss = torch::nn::functional::cross_entropy(logits, data.labels.index_select(0, index));
+      const torch::Tensor loss = batch_loss(data.features.index_select(0, index), data.labels.index_select(0, index));
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
@@ -63,6 +65,19 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
     if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, last_loss);
   }
   return last_loss;
+}
+
+double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& data,
+                        std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
+                        const std::string& phase) {
+  std::vector<torch::Tensor> parameters = encoder->parameters();
+  for (const auto& parameter : classifier->parameters()) parameters.push_back(parameter);
+  encoder->train();
+  classifier->train();
+  const BatchLoss cross_entropy = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    return torch::nn::functional::cross_entropy(classifier->forward(encoder->forward(features), classes), labels);
+  };
+  return train_epochs(parameters, cross_entropy, data, schedule, context, phase);
 }
 
 }  // namespace fscil

@@ -1,5 +1,7 @@
 #pragma once
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
@@ -20,6 +22,20 @@ struct SupervisedSchedule {
   // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_step, lr_gamma.
   static SupervisedSchedule from(const ParameterSet& params);
 };
+
+// SGD with Nesterov momentum and the schedule's weight decay, at its initial learning rate.
+torch::optim::SGD make_nesterov_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule);
+// Sets the step-decayed learning rate of `epoch` (0-based).
+void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch);
+
+// The loss of one mini-batch (features and labels already gathered).
+using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;
+
+// Epochs of shuffled mini-batches over `data` with the schedule's optimiser and step decay,
+// minimising `batch_loss` over `parameters`. Modules must already be in the wanted mode.
+// Returns the mean loss of the last epoch.
+double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
+                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase);
 
 // Cross-entropy training of encoder + cosine classifier on the classes [0, classes) of `data`.
 // Returns the mean loss of the last epoch.

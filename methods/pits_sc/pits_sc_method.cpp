@@ -1,0 +1,118 @@
+#include "methods/pits_sc/pits_sc_method.h"
+
+#include <fmt/format.h>
+
+#include <numeric>
+
+#include "methods/common/embedding.h"
+#include "methods/common/mixing.h"
+#include "methods/common/supervised_training.h"
+#include "methods/pits_sc/pseudo_incremental.h"
+#include "methods/pits_sc/session_finetune.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+PitsScMethod::PitsScMethod(const ParameterSet& params) : settings_(PitsScSettings::from(params)) {}
+
+void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
+  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  classifier_ = StochasticClassifier(context.total_classes, encoder_->embedding_size(), settings_.temperature);
+  pretrain(base, context);
+  reset_base_rows(base, context);
+  report_validation(context, "pretraining");
+  train_pseudo_incremental(base, context);
+  reset_base_rows(base, context);
+  report_validation(context, "pseudo-incremental training");
+}
+
+void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
+  encoder_->train();
+  classifier_->train();
+  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  parameters.push_back(classifier_->mu);
+  const std::int64_t classes = context.base_classes;
+  std::bernoulli_distribution use_cutmix(settings_.p_cutmix);
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    if (!use_cutmix(context.generator)) {
+      return F::cross_entropy(classifier_->forward(encoder_->forward(features), classes, false), labels);
+    }
+    const CutMixBatch mixed = cutmix(features, labels, settings_.cutmix_alpha, context.generator);
+    const torch::Tensor logits = classifier_->forward(encoder_->forward(mixed.features), classes, false);
+    if (!settings_.cutmix_loss_mixed) return F::cross_entropy(logits, labels);  // as released
+    return mixed.kept_fraction * F::cross_entropy(logits, labels) +
+           (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels);
+  };
+  train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
+}
+
+void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext& context) {
+  if (settings_.pit.epochs == 0) return;
+  const PitEpisodeSampler sampler(base, context.base_classes, context.total_classes, settings_);
+  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  for (const auto& parameter : classifier_->parameters()) parameters.push_back(parameter);
+  torch::optim::SGD optimizer = make_nesterov_sgd(parameters, settings_.pit);
+  encoder_->train();
+  classifier_->train();
+  for (int epoch = 0; epoch < settings_.pit.epochs; ++epoch) {
+    set_epoch_learning_rate(optimizer, settings_.pit, epoch);
+    double loss_sum = 0;
+    for (int e = 0; e < settings_.pit_episodes; ++e) {
+      const PitEpisode episode = sampler.draw(context.generator, context.front_end);
+      const torch::Tensor loss = pit_episode_loss(encoder_, classifier_, episode, sampler.shape(), context.base_classes,
+                                                  context.total_classes);
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+    }
+    if (context.progress != nullptr) {
+      context.progress->epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, loss_sum / settings_.pit_episodes);
+    }
+  }
+}
+
+void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context) {
+  std::vector<std::int64_t> classes(context.base_classes);
+  std::iota(classes.begin(), classes.end(), 0);
+  stored_means_ = class_means(embed_in_batches(encoder_, base.features), base.labels, classes);
+  classifier_->set_mu_rows(0, stored_means_);
+  classifier_->set_mu_rows(context.base_classes,
+                           torch::zeros({context.total_classes - context.base_classes, stored_means_.size(1)}));
+  seen_classes_ = context.base_classes;
+}
+
+void PitsScMethod::report_validation(RunContext& context, const std::string& stage) {
+  if (context.validation == nullptr || context.progress == nullptr) return;
+  const auto predictions = logits(context.validation->features).argmax(1);
+  const double accuracy = 100.0 * (predictions == context.validation->labels).to(torch::kDouble).mean().item<double>();
+  context.progress->note(fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy));
+}
+
+void PitsScMethod::learn_session(const SessionData& support, RunContext& context) {
+  if (support.new_classes.front() != seen_classes_) {
+    throw MethodError(fmt::format("session {} starts at class {}, expected {}", support.session,
+                                  support.new_classes.front(), seen_classes_));
+  }
+  const torch::Tensor embeddings = embed_in_batches(encoder_, support.features);  // encoder and bn0 frozen
+  const torch::Tensor new_means = class_means(embeddings, support.labels, support.new_classes);
+  classifier_->set_mu_rows(seen_classes_, new_means);
+  seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());
+  finetune_session_rows(classifier_, embeddings, support.labels, stored_means_, seen_classes_,
+                        {settings_.epochs_new, settings_.lr_new, settings_.lamda_proto});
+  stored_means_ = torch::cat({stored_means_, new_means});
+}
+
+torch::Tensor PitsScMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
+
+torch::Tensor PitsScMethod::classify(const torch::Tensor& embeddings) {
+  torch::NoGradGuard no_grad;
+  return classifier_->forward(embeddings, seen_classes_, false);
+}
+
+std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params) {
+  return std::make_unique<PitsScMethod>(params);
+}
+
+}  // namespace fscil

@@ -1,0 +1,43 @@
+#pragma once
+#include <memory>
+
+#include "methods/common/resnet18.h"
+#include "methods/common/stochastic_classifier.h"
+#include "methods/method.h"
+#include "methods/pits_sc/pits_sc_settings.h"
+
+namespace fscil {
+
+// PITS-SC (Li et al., TASLP 2025) as released in vinceasvp/PITEL-CUSC: pretraining with
+// CutMix, pseudo-incremental training on raw-signal mixtures with a stochastic classifier,
+// then per session new rows = mean support embedding and a fine-tuning of mu and sigma with
+// the encoder frozen. docs/methods.md lists where the code and the paper differ.
+class PitsScMethod : public Method {
+ public:
+  explicit PitsScMethod(const ParameterSet& params);
+  void train_base(const SessionData& base, RunContext& context) override;
+  void learn_session(const SessionData& support, RunContext& context) override;
+  torch::Tensor embed(const torch::Tensor& features) override;
+  torch::Tensor classify(const torch::Tensor& embeddings) override;
+
+  // For tests: the modules as they stand.
+  ResNet18Encoder& encoder() { return encoder_; }
+  StochasticClassifier& classifier() { return classifier_; }
+
+ private:
+  void pretrain(const SessionData& base, RunContext& context);
+  void train_pseudo_incremental(const SessionData& base, RunContext& context);
+  // Base rows of mu = base class-mean embeddings; also stores them as the old-class means.
+  void reset_base_rows(const SessionData& base, RunContext& context);
+  void report_validation(RunContext& context, const std::string& stage);
+
+  PitsScSettings settings_;
+  ResNet18Encoder encoder_{nullptr};
+  StochasticClassifier classifier_{nullptr};
+  torch::Tensor stored_means_;  // seen classes x D, the means each session's update replays
+  std::int64_t seen_classes_ = 0;
+};
+
+std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params);
+
+}  // namespace fscil
