@@ -34,7 +34,7 @@ const RealDataset kRealDatasets[] = {
     {"haptex", "HapTex fabrics: 120 classes, 5 channels at 1 kHz, 0.5 s segments (real data)",
      "the HapTex database of fabric textures (Jiao et al., IEEE World Haptics 2019)",
      "a generic tactile folder: dataset.json + manifest.csv (file,class,group,recording) + one CSV per "
-     "recording with columns friction_force,normal_force,friction_coefficient,displacement,velocity (docs/datasets.md)",
+     "recording with columns friction_force,normal_force,friction_coefficient,displacement,velocity (docs/real_datasets.md)",
      [](const fs::path& root, const ParameterSet&) { return scan_haptex(root); }},
     {"lmt108", "LMT108 surfaces: 108 classes, 3-axis acceleration at 10 kHz, 0.8 s segments (real data)",
      "the LMT Haptic Texture Database v1.1 (Strese et al., 2017)",
@@ -50,7 +50,7 @@ const RealDataset kRealDatasets[] = {
      "nsynth-100-fs-meta/nsynth-100-fs_vocab.json, <root>/<audio_source>/audio/<filename>.wav",
      [](const fs::path& root, const ParameterSet&) { return scan_ns100(root); }},
     {"folder", "any tactile recordings laid out as dataset.json + manifest.csv + per-recording CSV/TXT",
-     "your own lab", "dataset.json + manifest.csv (file,class,group,recording[,split][,context]) (docs/datasets.md)",
+     "your own lab", "dataset.json + manifest.csv (file,class,group,recording[,split][,context]) (docs/real_datasets.md)",
      [](const fs::path& root, const ParameterSet&) { return scan_tactile_folder(root); }},
 };
 

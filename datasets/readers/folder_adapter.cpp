@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -42,7 +43,6 @@ class DatasetJson {
     if (!root_.is_object()) throw DatasetError(fmt::format("{}: expected a JSON object", path.string()));
   }
 
-  bool has(const json& object, const std::string& field) const { return object.contains(field); }
   const json& root() const { return root_; }
 
   double number(const json& object, const std::string& field, std::optional<double> fallback = {}) const {

@@ -8,7 +8,7 @@
 
 namespace fscil {
 
-// The generic tactile folder format any lab can write (docs/datasets.md):
+// The generic tactile folder format any lab can write (docs/real_datasets.md):
 //   dataset.json  name, sample_rate, channels, segment_seconds, [hop_seconds],
 //                 [max_segments_per_recording], [front_end {preset, n_fft, hop, n_mels, center,
 //                 f_min, f_max}], [sessions {base_classes, way, shot, sessions}]

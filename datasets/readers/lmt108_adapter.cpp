@@ -4,7 +4,6 @@
 
 #include <map>
 #include <regex>
-#include <set>
 #include <tuple>
 
 #include "datasets/dataset_error.h"
