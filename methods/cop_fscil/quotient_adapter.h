@@ -1,0 +1,48 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <cstdint>
+
+namespace fscil {
+
+// Householder reflections H(v) = I - 2 v v^T / v^T v applied to vectors, never formed as
+// matrices. v: N x m x D (m reflections per sample), x: N x D.
+// Q = H(v_m) ... H(v_1): apply_q applies H(v_1) first; apply_q_transpose undoes it.
+torch::Tensor apply_q(const torch::Tensor& reflections, const torch::Tensor& x);
+torch::Tensor apply_q_transpose(const torch::Tensor& reflections, const torch::Tensor& x);
+
+struct QuotientAdapterOptions {
+  std::int64_t dim = 256;
+  std::int64_t reflections = 8;        // m (ours)
+  std::int64_t invariant_dim = 192;    // d_inv = 3D/4 (ours)
+};
+
+// PCQA, the probe-conditioned quotient adapter of CoP-FSCIL: an observation network
+// g = Linear(D, D) - ReLU - Linear(D, m D) predicts m reflection vectors from the original
+// sample's embedding z0; p = Q z splits into [p_inv; p_sen] and z_hat = Q^T [p_inv; 0].
+class QuotientAdapterImpl : public torch::nn::Module {
+ public:
+  explicit QuotientAdapterImpl(const QuotientAdapterOptions& options);
+
+  struct Projection {
+    torch::Tensor invariant;  // p_inv, N x d_inv
+    torch::Tensor quotient;   // z_hat, N x D
+  };
+  torch::Tensor reflections_of(const torch::Tensor& original);  // N x m x D
+  // Projects z with the Q predicted from `original` (z0): its own embedding or a probe's.
+  Projection project(const torch::Tensor& reflections, const torch::Tensor& z) const;
+  torch::Tensor forward(const torch::Tensor& z) { return project(reflections_of(z), z).quotient; }
+
+  const QuotientAdapterOptions& options() const { return options_; }
+
+ private:
+  QuotientAdapterOptions options_;
+  torch::nn::Linear hidden_{nullptr}, output_{nullptr};
+};
+TORCH_MODULE(QuotientAdapter);
+
+// L_PIC = mean over probes n of |p_inv^(0) - stopgrad(p_inv^(n))|^2 (mean over samples too).
+// probe_invariants: N_cp x N x d_inv.
+torch::Tensor probe_invariance_loss(const torch::Tensor& original_invariant, const torch::Tensor& probe_invariants);
+
+}  // namespace fscil

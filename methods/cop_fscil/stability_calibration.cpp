@@ -1,0 +1,31 @@
+#include "methods/cop_fscil/stability_calibration.h"
+
+namespace fscil {
+
+torch::Tensor probe_instability(const torch::Tensor& original, const torch::Tensor& probes) {
+  return (probes - original.unsqueeze(0)).pow(2).sum(2).mean(0);
+}
+
+torch::Tensor stability_weights(const torch::Tensor& instability, const torch::Tensor& labels, double beta) {
+  torch::Tensor weights = torch::zeros_like(instability);
+  const torch::Tensor classes = std::get<0>(torch::_unique(labels));
+  for (std::int64_t k = 0; k < classes.size(0); ++k) {
+    const torch::Tensor mask = labels == classes[k];
+    weights.index_put_({mask}, torch::softmax(-beta * instability.index({mask}), 0));
+  }
+  return weights;
+}
+
+torch::Tensor calibrated_prototypes(const torch::Tensor& original, const torch::Tensor& probes,
+                                    const torch::Tensor& weights, const torch::Tensor& labels,
+                                    const std::vector<std::int64_t>& classes) {
+  const torch::Tensor mean_views = (original + probes.sum(0)) / static_cast<double>(probes.size(0) + 1);
+  std::vector<torch::Tensor> rows;
+  for (std::int64_t label : classes) {
+    const torch::Tensor mask = labels == label;
+    rows.push_back((weights.index({mask}).unsqueeze(1) * mean_views.index({mask})).sum(0));
+  }
+  return torch::stack(rows);
+}
+
+}  // namespace fscil

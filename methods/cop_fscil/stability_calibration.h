@@ -1,0 +1,19 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <vector>
+
+namespace fscil {
+
+// PSPC weights: U_i = mean over probes of |z_hat^(n)_i - z_hat^(0)_i|^2, and
+// alpha_i = softmax(-beta U_i) over the samples of each class. probes: N_ps x N x D.
+torch::Tensor probe_instability(const torch::Tensor& original, const torch::Tensor& probes);
+torch::Tensor stability_weights(const torch::Tensor& instability, const torch::Tensor& labels, double beta);
+
+// Calibrated prototypes: per class, sum_i alpha_i * zbar_i with zbar_i the mean of sample i's
+// embedding over the original and its probes (ours: the paper says "mean support embeddings").
+torch::Tensor calibrated_prototypes(const torch::Tensor& original, const torch::Tensor& probes,
+                                    const torch::Tensor& weights, const torch::Tensor& labels,
+                                    const std::vector<std::int64_t>& classes);
+
+}  // namespace fscil

@@ -1,0 +1,148 @@
+// The CoP-FSCIL components on their own: CPI's view and statistic transfer, PCQA's Householder
+// quotient and its invariance loss, PSPC's stability weights.
+#include <gtest/gtest.h>
+
+#include "methods/cop_fscil/context_probe.h"
+#include "methods/cop_fscil/quotient_adapter.h"
+#include "methods/cop_fscil/stability_calibration.h"
+
+namespace fscil {
+namespace {
+
+// The explicit D x D product H(v_m) ... H(v_1) for one sample.
+torch::Tensor explicit_q(const torch::Tensor& v) {
+  const std::int64_t d = v.size(1);
+  torch::Tensor q = torch::eye(d, torch::kDouble);
+  for (std::int64_t k = 0; k < v.size(0); ++k) {
+    const torch::Tensor u = v[k].view({d, 1});
+    q = torch::mm(torch::eye(d, torch::kDouble) - 2 * torch::mm(u, u.t()) / torch::mm(u.t(), u), q);
+  }
+  return q;
+}
+
+TEST(Householder, QIsOrthogonalAndEqualsTheExplicitProduct) {
+  torch::manual_seed(1);
+  const auto opts = torch::TensorOptions().dtype(torch::kDouble);
+  const torch::Tensor v = torch::randn({4, 3, 6}, opts);  // 4 samples, m = 3, D = 6
+  const torch::Tensor z = torch::randn({4, 6}, opts);
+  const torch::Tensor p = apply_q(v, z);
+  EXPECT_TRUE(torch::allclose(p.norm(2, 1), z.norm(2, 1), 1e-9, 1e-9));  // norms kept
+  EXPECT_TRUE(torch::allclose(apply_q_transpose(v, p), z, 1e-9, 1e-9));  // Q^T Q = I
+  for (std::int64_t i = 0; i < 4; ++i) {
+    const torch::Tensor q = explicit_q(v[i]);
+    EXPECT_TRUE(torch::allclose(torch::mm(q.t(), q), torch::eye(6, opts), 1e-9, 1e-9));
+    EXPECT_TRUE(torch::allclose(p[i], torch::mv(q, z[i]), 1e-9, 1e-9));
+  }
+}
+
+TEST(QuotientAdapter, KeepsTheInvariantBlockAndDropsTheSensitiveOne) {
+  torch::manual_seed(2);
+  QuotientAdapter adapter(QuotientAdapterOptions{8, 3, 6});
+  const torch::Tensor z = torch::randn({5, 8});
+  const torch::Tensor v = adapter->reflections_of(z);
+  EXPECT_EQ(v.sizes(), (std::vector<std::int64_t>{5, 3, 8}));
+  const auto projection = adapter->project(v, z);
+  EXPECT_EQ(projection.invariant.sizes(), (std::vector<std::int64_t>{5, 6}));
+  // z_hat = Q^T [p_inv; 0]: projecting it again gives [p_inv; 0] exactly, and its norm is |p_inv|.
+  const torch::Tensor again = apply_q(v, projection.quotient);
+  EXPECT_TRUE(torch::allclose(again.narrow(1, 0, 6), projection.invariant, 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(again.narrow(1, 6, 2), torch::zeros({5, 2}), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(projection.quotient.norm(2, 1), projection.invariant.norm(2, 1), 1e-4, 1e-5));
+}
+
+TEST(ProbeInvarianceLoss, SendsNoGradientThroughTheProbeBranch) {
+  const torch::Tensor original = torch::randn({4, 3}, torch::requires_grad());
+  const torch::Tensor probes = torch::randn({2, 4, 3}, torch::requires_grad());
+  const torch::Tensor loss = probe_invariance_loss(original, probes);
+  EXPECT_NEAR(loss.item<double>(), (original.unsqueeze(0) - probes).pow(2).sum(2).mean().item<double>(), 1e-5);
+  loss.backward();
+  EXPECT_FALSE(probes.grad().defined() && probes.grad().abs().sum().item<double>() > 0);
+  EXPECT_GT(original.grad().abs().sum().item<double>(), 0.0);
+}
+
+torch::Tensor ramp_features() {
+  // 2 samples, 2 channels, 4 Mel bins, 16 frames; each frame holds its index, so shifts are visible.
+  return torch::arange(16).to(torch::kFloat).view({1, 1, 1, 16}).expand({2, 2, 4, 16}).contiguous();
+}
+
+TEST(RandomView, EachPerturbationHasItsDocumentedEffect) {
+  const torch::Tensor m = ramp_features();
+  const double spread = m[0].std().item<double>();
+  std::mt19937_64 generator(4);
+  // Global bias only: the same offset everywhere in a sample, within +-a_g * std.
+  ViewRanges bias_only{0.5, 0, 0, 0, 0};
+  const torch::Tensor biased = random_view(m, bias_only, generator) - m;
+  EXPECT_NEAR((biased[0] - biased[0][0][0][0]).abs().max().item<double>(), 0.0, 1e-5);
+  EXPECT_LE(std::abs(biased[0][0][0][0].item<double>()), 0.5 * spread + 1e-5);
+  // Tilt only: linear in the Mel bin, from -s to +s, the same in every frame and channel.
+  ViewRanges tilt_only{0, 0, 0.5, 0, 0};
+  const torch::Tensor tilted = random_view(m, tilt_only, generator) - m;
+  const double s = tilted[0][0][3][0].item<double>();
+  EXPECT_NEAR(tilted[0][0][0][0].item<double>(), -s, 1e-5);
+  EXPECT_NEAR(tilted[0][0][1][5].item<double>(), -s / 3, 1e-5);
+  EXPECT_NEAR(tilted[0][1][2][9].item<double>(), s / 3, 1e-5);
+  // Shift only: content moves by whole frames, vacated frames repeat the edge (not circular).
+  ViewRanges shift_only{0, 0, 0, 0, 0.25};
+  const torch::Tensor shifted = random_view(m, shift_only, generator);
+  for (std::int64_t i = 0; i < 2; ++i) {
+    const auto row = shifted[i][0][0];
+    const double dt = m[i][0][0][8].item<double>() - row[8].item<double>();
+    EXPECT_LE(std::abs(dt), 4.0);
+    for (std::int64_t t = 0; t < 16; ++t) {
+      EXPECT_FLOAT_EQ(row[t].item<float>(), static_cast<float>(std::clamp(t - dt, 0.0, 15.0)));
+    }
+  }
+  // Noise only: zero-mean with standard deviation s_eta * std.
+  const torch::Tensor big = torch::randn({1, 4, 64, 64});
+  ViewRanges noise_only{0, 0, 0, 0.1, 0};
+  const torch::Tensor noise = random_view(big, noise_only, generator) - big;
+  EXPECT_NEAR(noise.std().item<double>(), 0.1 * big.std().item<double>(), 0.005);
+  // Shapes (and so labels, which the view never touches) are preserved.
+  EXPECT_EQ(random_view(m, ViewRanges{}, generator).sizes(), m.sizes());
+}
+
+TEST(ContextStatisticBank, ReturnsTheFarthestEntryAndForgetsTheOldest) {
+  ContextStatisticBank bank(3);
+  bank.push(torch::tensor({{0.0f, 1.0f}, {5.0f, 1.0f}, {1.0f, 1.0f}}));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({0.0f, 1.0f})), torch::tensor({5.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f})), torch::tensor({0.0f, 1.0f})));
+  bank.push(torch::tensor({{2.0f, 1.0f}}));  // pushes {0, 1} out
+  EXPECT_EQ(bank.size(), 3u);
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f})), torch::tensor({1.0f, 1.0f})));
+}
+
+TEST(StatisticTransfer, MovesChannelStatisticsTowardTheReference) {
+  torch::manual_seed(5);
+  const torch::Tensor m = 2 + 3 * torch::randn({1, 2, 8, 8});
+  ContextStatisticBank bank;
+  bank.push(torch::tensor({{10.0f, 10.0f, 0.5f, 0.5f}}));
+  std::mt19937_64 generator(6);
+  const torch::Tensor moved = transfer_statistics(m, bank, ReferenceChoice::farthest, 0.1, generator);
+  const torch::Tensor before = channel_statistics(m)[0], after = channel_statistics(moved)[0];
+  const torch::Tensor target = torch::tensor({10.0f, 10.0f, 0.5f, 0.5f});
+  // Each statistic lands on the segment between the sample's own and the reference's, with one lambda.
+  const torch::Tensor fraction = (after - target) / (before - target);
+  EXPECT_TRUE(torch::allclose(fraction, fraction[0].expand({4}), 1e-3, 1e-3));
+  EXPECT_GE(fraction[0].item<double>(), -1e-4);
+  EXPECT_LE(fraction[0].item<double>(), 1.0 + 1e-4);
+}
+
+TEST(StabilityWeights, AnUnstableSupportSampleWeighsLessAndWeightsSumToOnePerClass) {
+  const torch::Tensor original = torch::zeros({4, 2});
+  torch::Tensor probes = 0.1 * torch::ones({3, 4, 2});
+  probes.select(1, 1).fill_(2.0);  // sample 1's probes wander far: unstable
+  const torch::Tensor labels = torch::tensor(std::vector<std::int64_t>{7, 7, 7, 9});
+  const torch::Tensor instability = probe_instability(original, probes);
+  EXPECT_NEAR(instability[0].item<double>(), 0.02, 1e-6);
+  EXPECT_NEAR(instability[1].item<double>(), 8.0, 1e-5);
+  const torch::Tensor weights = stability_weights(instability, labels, 8.0);
+  EXPECT_LT(weights[1].item<double>(), weights[0].item<double>() / 1e6);
+  EXPECT_NEAR(weights[0].item<double>() + weights[1].item<double>() + weights[2].item<double>(), 1.0, 1e-6);
+  EXPECT_NEAR(weights[3].item<double>(), 1.0, 1e-6);
+  const torch::Tensor prototypes = calibrated_prototypes(original, probes, weights, labels, {7, 9});
+  // Class 7 ignores the unstable sample: its two stable samples average (0 + 3 * 0.1) / 4.
+  EXPECT_NEAR(prototypes[0][0].item<double>(), 0.075, 1e-4);
+}
+
+}  // namespace
+}  // namespace fscil
