@@ -189,18 +189,7 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
 
 SignalData read_folder_recording(const RecordingSource& source, const std::vector<std::string>& channels) {
   if (source.files.front().extension() == ".csv") return read_signal_csv(source.files.front(), channels);
-  SignalData signal;
-  for (const auto& file : source.files) {
-    const SignalData channel = read_single_column(file);
-    if (signal.channels > 0 && channel.length != signal.length) {
-      throw DatasetError(fmt::format("{}: {} samples, expected {} like {} (channels of a recording must align)",
-                                     file.string(), channel.length, signal.length, source.files.front().string()));
-    }
-    signal.length = channel.length;
-    signal.channels += 1;
-    signal.values.insert(signal.values.end(), channel.values.begin(), channel.values.end());
-  }
-  return signal;
+  return stack_channel_files(source.files, read_single_column);
 }
 
 DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected) {

@@ -56,20 +56,12 @@ std::string group_of_material(const std::string& material, const fs::path& file)
 }
 
 SignalData read_lmt_recording(const RecordingSource& source) {
-  SignalData signal;
-  for (const auto& file : source.files) {
-    SignalData channel = file.extension() == ".wav" ? SignalData{1, 0, read_mono_audio(file, kSampleRate)}
-                                                    : read_single_column(file);
-    channel.length = static_cast<std::int64_t>(channel.values.size());
-    if (signal.channels > 0 && channel.length != signal.length) {
-      throw DatasetError(fmt::format("{}: {} samples, expected {} like {} (channels of a recording must align)",
-                                     file.string(), channel.length, signal.length, source.files.front().string()));
-    }
-    signal.length = channel.length;
-    signal.channels += 1;
-    signal.values.insert(signal.values.end(), channel.values.begin(), channel.values.end());
-  }
-  return signal;
+  return stack_channel_files(source.files, [](const fs::path& file) {
+    if (file.extension() != ".wav") return read_single_column(file);
+    std::vector<float> samples = read_mono_audio(file, kSampleRate);
+    const auto length = static_cast<std::int64_t>(samples.size());
+    return SignalData{1, length, std::move(samples)};
+  });
 }
 
 }  // namespace
