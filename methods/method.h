@@ -54,6 +54,10 @@ class Method {
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
 
   torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }
+  // Top-1 accuracy in percent on labelled data (the base validation split, for progress notes).
+  double accuracy_on(const SessionData& data) {
+    return 100.0 * (logits(data.features).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
+  }
 };
 
 // Raised for bad method requests and impossible method states.

@@ -85,9 +85,8 @@ void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context)
 
 void PitsScMethod::report_validation(RunContext& context, const std::string& stage) {
   if (context.validation == nullptr || context.progress == nullptr) return;
-  const auto predictions = logits(context.validation->features).argmax(1);
-  const double accuracy = 100.0 * (predictions == context.validation->labels).to(torch::kDouble).mean().item<double>();
-  context.progress->note(fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy));
+  context.progress->note(
+      fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy_on(*context.validation)));
 }
 
 void PitsScMethod::learn_session(const SessionData& support, RunContext& context) {

@@ -16,9 +16,7 @@ void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
   seen_classes_ = 0;
   add_prototypes(base);
   if (context.validation != nullptr && context.progress != nullptr) {
-    const auto predictions = logits(context.validation->features).argmax(1);
-    const double accuracy = 100.0 * (predictions == context.validation->labels).to(torch::kDouble).mean().item<double>();
-    context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy));
+    context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy_on(*context.validation)));
   }
 }
 
