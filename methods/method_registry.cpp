@@ -4,6 +4,7 @@
 
 #include <sstream>
 
+#include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/method.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/prototype/prototype_method.h"
@@ -16,6 +17,13 @@ const std::vector<MethodEntry>& method_registry() {
        &make_prototype_method},
       {"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, stochastic "
        "classifier fine-tuned per session", &make_pits_sc_method},
+      {"cop-fscil/cpi", "CoP-FSCIL ablation: pits-sc with context-probing intervention in pseudo-incremental episodes",
+       &make_cop_fscil_cpi},
+      {"cop-fscil/cpi+pspc", "CoP-FSCIL ablation: CPI plus probe-stability prototype calibration in sessions",
+       &make_cop_fscil_cpi_pspc},
+      {"cop-fscil/cpi+pcqa", "CoP-FSCIL ablation: CPI plus the probe-conditioned quotient adapter with L_PIC",
+       &make_cop_fscil_cpi_pcqa},
+      {"cop-fscil", "CoP-FSCIL: CPI, PCQA with L_PIC, and PSPC on the pits-sc stages", &make_cop_fscil},
   };
   return table;
 }
@@ -41,15 +49,16 @@ std::vector<std::string> resolve_method_names(const std::string& request) {
     for (const auto& entry : method_registry()) names.emplace_back(entry.name);
     return names;
   }
+  if (request == "ablation") return {"pits-sc", "cop-fscil/cpi", "cop-fscil/cpi+pspc", "cop-fscil/cpi+pcqa", "cop-fscil"};
   std::stringstream stream(request);
   std::string name;
   while (std::getline(stream, name, ',')) {
     if (find_method(name) == nullptr) {
-      throw MethodError(fmt::format("unknown method '{}': expected all or one of {}", name, known_names()));
+      throw MethodError(fmt::format("unknown method '{}': expected all, ablation or one of {}", name, known_names()));
     }
     names.push_back(name);
   }
-  if (names.empty()) throw MethodError(fmt::format("no method named: expected all or one of {}", known_names()));
+  if (names.empty()) throw MethodError(fmt::format("no method named: expected all, ablation or one of {}", known_names()));
   return names;
 }
 

@@ -1,6 +1,8 @@
 #include "methods/cop_fscil/context_probe.h"
 
-#include <algorithm>
+#include <ATen/CPUGeneratorImpl.h>
+
+#include <vector>
 
 #include "methods/common/mixing.h"
 
@@ -8,22 +10,23 @@ namespace fscil {
 
 namespace {
 
-double uniform(double range, std::mt19937_64& generator) {
-  return range > 0 ? std::uniform_real_distribution<double>(-range, range)(generator) : 0.0;
+// n draws of U(-range, range) as a float tensor (zeros when the range is 0).
+torch::Tensor uniform_draws(std::int64_t n, double range, std::mt19937_64& generator) {
+  std::vector<float> values(static_cast<std::size_t>(n), 0.0f);
+  if (range > 0) {
+    std::uniform_real_distribution<double> draw(-range, range);
+    for (auto& value : values) value = static_cast<float>(draw(generator));
+  }
+  return torch::tensor(values);
 }
 
-// Shifts along time by `shift` frames, repeating the edge frame into the vacated ones.
-torch::Tensor padded_shift(const torch::Tensor& sample, std::int64_t shift) {
-  if (shift == 0) return sample;
-  const std::int64_t frames = sample.size(-1);
-  const std::int64_t magnitude = std::min(std::abs(shift), frames);
-  using torch::indexing::Slice;
-  if (shift > 0) {
-    const torch::Tensor edge = sample.index({"...", Slice(0, 1)}).expand({-1, -1, magnitude});
-    return torch::cat({edge, sample.index({"...", Slice(0, frames - magnitude)})}, -1);
-  }
-  const torch::Tensor edge = sample.index({"...", Slice(frames - 1, frames)}).expand({-1, -1, magnitude});
-  return torch::cat({sample.index({"...", Slice(magnitude, frames)}), edge}, -1);
+// Shifts each sample along time by its own number of frames, repeating the edge frame into the
+// vacated ones: output frame t reads input frame clamp(t - shift, 0, T - 1).
+torch::Tensor padded_shift(const torch::Tensor& features, const std::vector<std::int64_t>& shifts) {
+  const std::int64_t frames = features.size(3);
+  const torch::Tensor time = torch::arange(frames, torch::kLong).view({1, frames});
+  const torch::Tensor source = (time - torch::tensor(shifts).view({-1, 1})).clamp(0, frames - 1);
+  return features.gather(3, source.view({-1, 1, 1, frames}).expand(features.sizes()));
 }
 
 }  // namespace
@@ -31,33 +34,25 @@ torch::Tensor padded_shift(const torch::Tensor& sample, std::int64_t shift) {
 torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& ranges, std::mt19937_64& generator) {
   const std::int64_t n = features.size(0), channels = features.size(1), mels = features.size(2),
                      frames = features.size(3);
-  const auto max_shift = static_cast<std::int64_t>(ranges.max_shift_fraction * static_cast<double>(frames));
+  const torch::Tensor spread = features.flatten(1).std(1).view({n, 1, 1, 1});
+  const torch::Tensor global = uniform_draws(n, ranges.global_bias, generator).view({n, 1, 1, 1});
+  const torch::Tensor channel = uniform_draws(n * channels, ranges.channel_bias, generator).view({n, channels, 1, 1});
+  const torch::Tensor tilt = uniform_draws(n, ranges.tilt, generator).view({n, 1, 1, 1});
   const torch::Tensor tilt_profile =
-      mels > 1 ? torch::linspace(-1.0, 1.0, mels, features.options()).view({1, mels, 1}) : torch::zeros({1, 1, 1});
-  std::normal_distribution<double> unit_normal(0.0, 1.0);
-  std::vector<torch::Tensor> views;
-  for (std::int64_t i = 0; i < n; ++i) {
-    const torch::Tensor sample = features[i];
-    const double spread = sample.std().item<double>();
-    torch::Tensor offset = torch::full({channels, 1, 1}, uniform(ranges.global_bias, generator) * spread,
-                                       features.options());
-    for (std::int64_t c = 0; c < channels; ++c) offset[c] += uniform(ranges.channel_bias, generator) * spread;
-    const double tilt = uniform(ranges.tilt, generator) * spread;
-    // Noise from the run's generator (not torch's), so a view depends only on the seed.
-    torch::Tensor noise = torch::empty_like(sample);
-    auto values = noise.accessor<float, 3>();
-    for (std::int64_t c = 0; c < channels; ++c) {
-      for (std::int64_t f = 0; f < mels; ++f) {
-        for (std::int64_t t = 0; t < frames; ++t) {
-          values[c][f][t] = static_cast<float>(ranges.noise * spread * unit_normal(generator));
-        }
-      }
-    }
-    const std::int64_t shift =
-        max_shift > 0 ? std::uniform_int_distribution<std::int64_t>(-max_shift, max_shift)(generator) : 0;
-    views.push_back(padded_shift(sample + offset + tilt * tilt_profile + noise, shift));
+      mels > 1 ? torch::linspace(-1.0, 1.0, mels, features.options()).view({1, 1, mels, 1})
+               : torch::zeros({1, 1, 1, 1}, features.options());
+  // Noise from a torch generator seeded by the run's, so a view depends only on the seed.
+  const at::Generator noise_source = at::detail::createCPUGenerator(generator());
+  const torch::Tensor noise = torch::randn(features.sizes(), noise_source, features.options());
+  const auto max_shift = static_cast<std::int64_t>(ranges.max_shift_fraction * static_cast<double>(frames));
+  std::vector<std::int64_t> shifts(static_cast<std::size_t>(n), 0);
+  if (max_shift > 0) {
+    std::uniform_int_distribution<std::int64_t> draw(-max_shift, max_shift);
+    for (auto& shift : shifts) shift = draw(generator);
   }
-  return torch::stack(views);
+  const torch::Tensor perturbed =
+      features + spread * (global + channel + tilt * tilt_profile + ranges.noise * noise);
+  return padded_shift(perturbed, shifts);
 }
 
 torch::Tensor channel_statistics(const torch::Tensor& features) {
@@ -66,45 +61,59 @@ torch::Tensor channel_statistics(const torch::Tensor& features) {
 }
 
 void ContextStatisticBank::push(const torch::Tensor& statistics) {
-  const torch::Tensor rows = statistics.detach().clone();
+  const torch::Tensor rows = statistics.detach();
+  if (!entries_.defined() || entries_.size(1) != rows.size(1)) {
+    entries_ = torch::zeros({capacity_, rows.size(1)}, rows.options());
+    count_ = next_ = 0;
+  }
   for (std::int64_t i = 0; i < rows.size(0); ++i) {
-    entries_.push_back(rows[i]);
-    if (entries_.size() > capacity_) entries_.pop_front();
+    entries_[next_].copy_(rows[i]);
+    next_ = (next_ + 1) % capacity_;
+    count_ = std::min(count_ + 1, capacity_);
   }
 }
 
 torch::Tensor ContextStatisticBank::farthest_from(const torch::Tensor& statistics) const {
-  TORCH_CHECK(!entries_.empty(), "the context statistic bank is empty");
-  const torch::Tensor all = torch::stack(std::vector<torch::Tensor>(entries_.begin(), entries_.end()));
-  return all[(all - statistics.detach()).pow(2).sum(1).argmax().item<std::int64_t>()];
+  TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
+  const torch::Tensor queries = statistics.detach().view({-1, entries_.size(1)});
+  return stored().index_select(0, torch::cdist(queries, stored()).argmax(1));
 }
 
-torch::Tensor ContextStatisticBank::random_entry(std::mt19937_64& generator) const {
-  TORCH_CHECK(!entries_.empty(), "the context statistic bank is empty");
-  return entries_[std::uniform_int_distribution<std::size_t>(0, entries_.size() - 1)(generator)];
+torch::Tensor ContextStatisticBank::random_entries(std::int64_t n, std::mt19937_64& generator) const {
+  TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
+  std::uniform_int_distribution<std::int64_t> draw(0, count_ - 1);
+  std::vector<std::int64_t> picked(static_cast<std::size_t>(n));
+  for (auto& index : picked) index = draw(generator);
+  return stored().index_select(0, torch::tensor(picked));
 }
 
 torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextStatisticBank& bank,
                                   ReferenceChoice choice, double alpha, std::mt19937_64& generator) {
-  const std::int64_t channels = features.size(1);
+  const std::int64_t n = features.size(0), channels = features.size(1);
   const torch::Tensor own = channel_statistics(features);
-  std::vector<torch::Tensor> outputs;
-  for (std::int64_t i = 0; i < features.size(0); ++i) {
-    torch::Tensor reference;
-    if (bank.size() == 0) {
-      reference = own[std::uniform_int_distribution<std::int64_t>(0, features.size(0) - 1)(generator)];
-    } else {
-      reference = choice == ReferenceChoice::farthest ? bank.farthest_from(own[i]) : bank.random_entry(generator);
-    }
-    const double lambda = sample_beta(alpha, alpha, generator);
-    const torch::Tensor mixed = lambda * own[i] + (1 - lambda) * reference;
-    const auto shape = std::vector<std::int64_t>{channels, 1, 1};
-    const torch::Tensor mean = own[i].narrow(0, 0, channels).view(shape);
-    const torch::Tensor spread = own[i].narrow(0, channels, channels).view(shape).clamp_min(1e-6);
-    outputs.push_back(mixed.narrow(0, channels, channels).view(shape) * (features[i] - mean) / spread +
-                      mixed.narrow(0, 0, channels).view(shape));
+  torch::Tensor reference;
+  if (bank.size() == 0) {
+    std::uniform_int_distribution<std::int64_t> draw(0, n - 1);
+    std::vector<std::int64_t> picked(static_cast<std::size_t>(n));
+    for (auto& index : picked) index = draw(generator);
+    reference = own.index_select(0, torch::tensor(picked));
+  } else {
+    reference = choice == ReferenceChoice::farthest ? bank.farthest_from(own) : bank.random_entries(n, generator);
   }
-  return torch::stack(outputs);
+  std::vector<float> lambdas(static_cast<std::size_t>(n));
+  for (auto& lambda : lambdas) lambda = static_cast<float>(sample_beta(alpha, alpha, generator));
+  const torch::Tensor lambda = torch::tensor(lambdas).view({n, 1});
+  const torch::Tensor mixed = lambda * own + (1 - lambda) * reference;
+  const auto shape = std::vector<std::int64_t>{n, channels, 1, 1};
+  const torch::Tensor mean = own.narrow(1, 0, channels).reshape(shape);
+  const torch::Tensor spread = own.narrow(1, channels, channels).reshape(shape).clamp_min(1e-6);
+  return mixed.narrow(1, channels, channels).reshape(shape) * (features - mean) / spread +
+         mixed.narrow(1, 0, channels).reshape(shape);
+}
+
+torch::Tensor ContextProbe::intervene(const torch::Tensor& features, std::mt19937_64& generator) const {
+  torch::NoGradGuard no_grad;
+  return transfer_statistics(view(features, generator), bank_, settings_.reference, settings_.mix_alpha, generator);
 }
 
 }  // namespace fscil

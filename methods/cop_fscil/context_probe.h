@@ -2,7 +2,6 @@
 #include <torch/torch.h>
 
 #include <cstdint>
-#include <deque>
 #include <random>
 
 namespace fscil {
@@ -27,16 +26,20 @@ torch::Tensor channel_statistics(const torch::Tensor& features);
 // The Context Statistic Bank: the most recent statistics seen (FIFO).
 class ContextStatisticBank {
  public:
-  explicit ContextStatisticBank(std::size_t capacity = 1024) : capacity_(capacity) {}
+  explicit ContextStatisticBank(std::int64_t capacity = 1024) : capacity_(capacity) {}
   void push(const torch::Tensor& statistics);  // N x 2C
-  std::size_t size() const { return entries_.size(); }
-  // The entry farthest (Euclidean) from `statistics` (2C), or a uniformly random one.
+  std::int64_t size() const { return count_; }
+  // Per row of `statistics` (N x 2C), the entry farthest from it (Euclidean): N x 2C.
   torch::Tensor farthest_from(const torch::Tensor& statistics) const;
-  torch::Tensor random_entry(std::mt19937_64& generator) const;
+  // N entries drawn uniformly.
+  torch::Tensor random_entries(std::int64_t n, std::mt19937_64& generator) const;
 
  private:
-  std::size_t capacity_;
-  std::deque<torch::Tensor> entries_;
+  torch::Tensor stored() const { return entries_.narrow(0, 0, count_); }
+
+  std::int64_t capacity_;
+  torch::Tensor entries_;  // capacity x 2C ring; the first count_ rows are filled
+  std::int64_t count_ = 0, next_ = 0;
 };
 
 enum class ReferenceChoice { farthest, random };
@@ -46,5 +49,30 @@ enum class ReferenceChoice { farthest, random };
 // sigma_mix * (M - mu) / sigma + mu_mix. Falls back to the batch itself when the bank is empty.
 torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextStatisticBank& bank,
                                   ReferenceChoice choice, double alpha, std::mt19937_64& generator);
+
+struct ContextProbeSettings {
+  ViewRanges view;
+  ReferenceChoice reference = ReferenceChoice::farthest;
+  double mix_alpha = 0.1;               // MixStyle's Beta(0.1, 0.1) (ours)
+  std::int64_t bank_capacity = 1024;    // (ours)
+};
+
+// CPI as a whole: T_cp(M) = Mix(View(M)) with a bank of the statistics it has been shown.
+class ContextProbe {
+ public:
+  explicit ContextProbe(const ContextProbeSettings& settings)
+      : settings_(settings), bank_(settings.bank_capacity) {}
+  // Probes of `features`, without gradient.
+  torch::Tensor intervene(const torch::Tensor& features, std::mt19937_64& generator) const;
+  // The statistics of real samples join the bank as future references.
+  void observe(const torch::Tensor& features) { bank_.push(channel_statistics(features)); }
+  torch::Tensor view(const torch::Tensor& features, std::mt19937_64& generator) const {
+    return random_view(features, settings_.view, generator);
+  }
+
+ private:
+  ContextProbeSettings settings_;
+  ContextStatisticBank bank_;
+};
 
 }  // namespace fscil

@@ -28,4 +28,18 @@ torch::Tensor calibrated_prototypes(const torch::Tensor& original, const torch::
   return torch::stack(rows);
 }
 
+torch::Tensor new_and_old_loss(StochasticClassifier& classifier, const torch::Tensor& support_embeddings,
+                               const torch::Tensor& support_labels, const torch::Tensor& old_means,
+                               std::int64_t old_classes, std::int64_t seen) {
+  namespace F = torch::nn::functional;
+  const torch::Tensor new_logits =
+      classifier->forward(support_embeddings, seen, true).narrow(1, old_classes, seen - old_classes);
+  torch::Tensor loss = F::cross_entropy(new_logits, support_labels - old_classes);
+  if (old_classes > 0) {
+    const torch::Tensor old_logits = classifier->forward(old_means, old_classes, true);
+    loss = loss + F::cross_entropy(old_logits, torch::arange(old_classes, torch::kLong));
+  }
+  return loss;
+}
+
 }  // namespace fscil

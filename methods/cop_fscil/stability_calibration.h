@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include "methods/common/stochastic_classifier.h"
+
 namespace fscil {
 
 // PSPC weights: U_i = mean over probes of |z_hat^(n)_i - z_hat^(0)_i|^2, and
@@ -15,5 +17,12 @@ torch::Tensor stability_weights(const torch::Tensor& instability, const torch::T
 torch::Tensor calibrated_prototypes(const torch::Tensor& original, const torch::Tensor& probes,
                                     const torch::Tensor& weights, const torch::Tensor& labels,
                                     const std::vector<std::int64_t>& classes);
+
+// PSPC's incremental loss with sampled (stochastic) prototypes: L_new, cross-entropy of the
+// support embeddings over the new classes' rows [old_classes, seen) only, plus L_old,
+// cross-entropy of the stored old-class means over the old classes' rows [0, old_classes) only.
+torch::Tensor new_and_old_loss(StochasticClassifier& classifier, const torch::Tensor& support_embeddings,
+                               const torch::Tensor& support_labels, const torch::Tensor& old_means,
+                               std::int64_t old_classes, std::int64_t seen);
 
 }  // namespace fscil

@@ -16,9 +16,17 @@ namespace F = torch::nn::functional;
 
 PitsScMethod::PitsScMethod(const ParameterSet& params) : settings_(PitsScSettings::from(params)) {}
 
-void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
+void PitsScMethod::build_network(RunContext& context) {
   encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
   classifier_ = StochasticClassifier(context.total_classes, encoder_->embedding_size(), settings_.temperature);
+}
+
+TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, RunContext& /*context*/) {
+  return {encoder_->forward(features), {}};
+}
+
+void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
+  build_network(context);
   pretrain(base, context);
   reset_base_rows(base, context);
   report_validation(context, "pretraining");
@@ -30,19 +38,25 @@ void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
 void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
   encoder_->train();
   classifier_->train();
-  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  std::vector<torch::Tensor> parameters = network_parameters();
   parameters.push_back(classifier_->mu);
   const std::int64_t classes = context.base_classes;
   std::bernoulli_distribution use_cutmix(settings_.p_cutmix);
+  const auto with_side_loss = [](const TrainingEmbedding& embedded, torch::Tensor loss) {
+    return embedded.side_loss.defined() ? loss + embedded.side_loss : loss;
+  };
   const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
     if (!use_cutmix(context.generator)) {
-      return F::cross_entropy(classifier_->forward(encoder_->forward(features), classes, false), labels);
+      const TrainingEmbedding embedded = training_embedding(features, context);
+      return with_side_loss(embedded,
+                            F::cross_entropy(classifier_->forward(embedded.embedding, classes, false), labels));
     }
     const CutMixBatch mixed = cutmix(features, labels, settings_.cutmix_alpha, context.generator);
-    const torch::Tensor logits = classifier_->forward(encoder_->forward(mixed.features), classes, false);
-    if (!settings_.cutmix_loss_mixed) return F::cross_entropy(logits, labels);  // as released
-    return mixed.kept_fraction * F::cross_entropy(logits, labels) +
-           (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels);
+    const TrainingEmbedding embedded = training_embedding(mixed.features, context);
+    const torch::Tensor logits = classifier_->forward(embedded.embedding, classes, false);
+    if (!settings_.cutmix_loss_mixed) return with_side_loss(embedded, F::cross_entropy(logits, labels));  // released
+    return with_side_loss(embedded, mixed.kept_fraction * F::cross_entropy(logits, labels) +
+                                        (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels));
   };
   train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
 }
@@ -50,8 +64,11 @@ void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
 void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext& context) {
   if (settings_.pit.epochs == 0) return;
   const PitEpisodeSampler sampler(base, context.base_classes, context.total_classes, settings_);
-  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  std::vector<torch::Tensor> parameters = network_parameters();
   for (const auto& parameter : classifier_->parameters()) parameters.push_back(parameter);
+  const TrainingEmbedder embedder = [&](const torch::Tensor& features) {
+    return training_embedding(features, context);
+  };
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, settings_.pit);
   encoder_->train();
   classifier_->train();
@@ -59,9 +76,10 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
     set_epoch_learning_rate(optimizer, settings_.pit, epoch);
     double loss_sum = 0;
     for (int e = 0; e < settings_.pit_episodes; ++e) {
-      const PitEpisode episode = sampler.draw(context.generator, context.front_end);
-      const torch::Tensor loss = pit_episode_loss(encoder_, classifier_, episode, sampler.shape(), context.base_classes,
-                                                  context.total_classes);
+      PitEpisode episode = sampler.draw(context.generator, context.front_end);
+      perturb_episode(episode, context);
+      const torch::Tensor loss = pit_episode_loss(embedder, classifier_, episode, sampler.shape(),
+                                                  context.base_classes, context.total_classes);
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
@@ -76,7 +94,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
 void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context) {
   std::vector<std::int64_t> classes(context.base_classes);
   std::iota(classes.begin(), classes.end(), 0);
-  stored_means_ = class_means(embed_in_batches(encoder_, base.features), base.labels, classes);
+  stored_means_ = class_means(embed(base.features), base.labels, classes);
   classifier_->set_mu_rows(0, stored_means_);
   classifier_->set_mu_rows(context.base_classes,
                            torch::zeros({context.total_classes - context.base_classes, stored_means_.size(1)}));
@@ -89,12 +107,16 @@ void PitsScMethod::report_validation(RunContext& context, const std::string& sta
       fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy_on(*context.validation)));
 }
 
-void PitsScMethod::learn_session(const SessionData& support, RunContext& context) {
+void PitsScMethod::check_session_order(const SessionData& support) const {
   if (support.new_classes.front() != seen_classes_) {
     throw MethodError(fmt::format("session {} starts at class {}, expected {}", support.session,
                                   support.new_classes.front(), seen_classes_));
   }
-  const torch::Tensor embeddings = embed_in_batches(encoder_, support.features);  // encoder and bn0 frozen
+}
+
+void PitsScMethod::learn_session(const SessionData& support, RunContext& /*context*/) {
+  check_session_order(support);
+  const torch::Tensor embeddings = embed(support.features);  // encoder and bn0 frozen
   const torch::Tensor new_means = class_means(embeddings, support.labels, support.new_classes);
   classifier_->set_mu_rows(seen_classes_, new_means);
   seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());

@@ -5,6 +5,7 @@
 #include "methods/common/stochastic_classifier.h"
 #include "methods/method.h"
 #include "methods/pits_sc/pits_sc_settings.h"
+#include "methods/pits_sc/pseudo_incremental.h"
 
 namespace fscil {
 
@@ -12,6 +13,7 @@ namespace fscil {
 // CutMix, pseudo-incremental training on raw-signal mixtures with a stochastic classifier,
 // then per session new rows = mean support embedding and a fine-tuning of mu and sigma with
 // the encoder frozen. docs/methods.md lists where the code and the paper differ.
+// cop-fscil builds on these stages through the protected hooks.
 class PitsScMethod : public Method {
  public:
   explicit PitsScMethod(const ParameterSet& params);
@@ -24,6 +26,23 @@ class PitsScMethod : public Method {
   ResNet18Encoder& encoder() { return encoder_; }
   StochasticClassifier& classifier() { return classifier_; }
 
+ protected:
+  // Builds the modules for this protocol; cop-fscil adds its adapter.
+  virtual void build_network(RunContext& context);
+  virtual std::vector<torch::Tensor> network_parameters() { return encoder_->parameters(); }
+  // A batch through the network in training mode; cop-fscil adds PCQA and L_PIC.
+  virtual TrainingEmbedding training_embedding(const torch::Tensor& features, RunContext& context);
+  // Each pseudo-incremental episode passes here before its loss; cop-fscil applies CPI.
+  virtual void perturb_episode(PitEpisode& /*episode*/, RunContext& /*context*/) {}
+  // The first new class must follow the seen ones.
+  void check_session_order(const SessionData& support) const;
+
+  const PitsScSettings& settings() const { return settings_; }
+  ResNet18Encoder encoder_{nullptr};
+  StochasticClassifier classifier_{nullptr};
+  torch::Tensor stored_means_;  // seen classes x D, the means each session's update replays
+  std::int64_t seen_classes_ = 0;
+
  private:
   void pretrain(const SessionData& base, RunContext& context);
   void train_pseudo_incremental(const SessionData& base, RunContext& context);
@@ -32,10 +51,6 @@ class PitsScMethod : public Method {
   void report_validation(RunContext& context, const std::string& stage);
 
   PitsScSettings settings_;
-  ResNet18Encoder encoder_{nullptr};
-  StochasticClassifier classifier_{nullptr};
-  torch::Tensor stored_means_;  // seen classes x D, the means each session's update replays
-  std::int64_t seen_classes_ = 0;
 };
 
 std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params);

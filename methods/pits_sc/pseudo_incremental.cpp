@@ -96,17 +96,27 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
   return episode;
 }
 
-torch::Tensor pit_episode_loss(ResNet18Encoder& encoder, StochasticClassifier& classifier, const PitEpisode& episode,
-                               const PitEpisodeShape& shape, int base_classes, int total_classes) {
-  const torch::Tensor kept_embeddings = encoder->forward(episode.kept_features);
-  const torch::Tensor mixed = encoder->forward(episode.mixed_features).view({shape.pairs, shape.per_class(), -1});
+torch::Tensor pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
+                               const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
+                               int total_classes) {
+  const TrainingEmbedding kept = embedder(episode.kept_features);
+  const TrainingEmbedding mixed_batch = embedder(episode.mixed_features);
+  const torch::Tensor& kept_embeddings = kept.embedding;
+  const torch::Tensor mixed = mixed_batch.embedding.view({shape.pairs, shape.per_class(), -1});
   const torch::Tensor prototypes = mixed.narrow(1, 0, shape.shot).mean(1).detach();
   classifier->set_mu_rows(base_classes, torch::zeros({total_classes - base_classes, prototypes.size(1)}));
   for (int j = 0; j < shape.pairs; ++j) classifier->set_mu_rows(episode.novel_rows[j], prototypes.narrow(0, j, 1));
   const torch::Tensor queries = mixed.narrow(1, shape.shot, shape.query).reshape({shape.pairs * shape.query, -1});
   const torch::Tensor logits = torch::cat({classifier->forward(kept_embeddings, total_classes, true),
                                            classifier->forward(queries, total_classes, true)});
-  return torch::nn::functional::cross_entropy(logits, torch::cat({episode.kept_labels, episode.query_labels}));
+  torch::Tensor loss =
+      torch::nn::functional::cross_entropy(logits, torch::cat({episode.kept_labels, episode.query_labels}));
+  if (kept.side_loss.defined()) {
+    const double kept_share = static_cast<double>(kept_embeddings.size(0)) /
+                              static_cast<double>(kept_embeddings.size(0) + mixed_batch.embedding.size(0));
+    loss = loss + kept_share * kept.side_loss + (1 - kept_share) * mixed_batch.side_loss;
+  }
+  return loss;
 }
 
 }  // namespace fscil

@@ -53,10 +53,21 @@ class PitEpisodeSampler {
   std::vector<std::vector<std::int64_t>> members_;  // per base class: its sample indices
 };
 
+// What the trained network gives a batch in training mode: the embedding the classifier sees
+// and a loss the method adds beside the classification loss (cop-fscil's lambda L_PIC;
+// undefined when there is none).
+struct TrainingEmbedding {
+  torch::Tensor embedding;
+  torch::Tensor side_loss;
+};
+using TrainingEmbedder = std::function<TrainingEmbedding(const torch::Tensor& features)>;
+
 // The episode's loss: the mean embedding of each pair's mixed shots (no gradient) becomes its
 // novel row of mu (other novel rows zero); one cross-entropy with the stochastic classifier
-// over every row, on the kept classes' samples and the mixed queries.
-torch::Tensor pit_episode_loss(ResNet18Encoder& encoder, StochasticClassifier& classifier, const PitEpisode& episode,
-                               const PitEpisodeShape& shape, int base_classes, int total_classes);
+// over every row, on the kept classes' samples and the mixed queries; plus the embedder's
+// side losses, weighted by the samples they cover.
+torch::Tensor pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
+                               const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
+                               int total_classes);
 
 }  // namespace fscil

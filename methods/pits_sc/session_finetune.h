@@ -1,6 +1,8 @@
 #pragma once
 #include <torch/torch.h>
 
+#include <functional>
+
 #include "methods/common/stochastic_classifier.h"
 
 namespace fscil {
@@ -11,10 +13,14 @@ struct SessionFinetuneSettings {
   double lamda_proto = 0.0;
 };
 
-// PITS-SC's incremental update with the encoder frozen: `steps` full-batch SGD steps (momentum
-// 0.9, dampening 0.9, no weight decay) on mu and sigma of the first `seen` classes, minimising
-// lamda_proto * CE(stored old-class means) + (1 - lamda_proto) * CE(support embeddings), with
-// the stochastic classifier on. Returns the final loss.
+// The incremental update with the encoder frozen: `steps` full-batch SGD steps (momentum 0.9,
+// dampening 0.9, no weight decay) on the classifier's mu and sigma, stochastic forward on,
+// minimising `loss`. Returns the final loss.
+double finetune_classifier_rows(StochasticClassifier& classifier, const SessionFinetuneSettings& settings,
+                                const std::function<torch::Tensor()>& loss);
+
+// PITS-SC's session loss: lamda_proto * CE(stored old-class means) + (1 - lamda_proto) *
+// CE(support embeddings), over the first `seen` classes.
 double finetune_session_rows(StochasticClassifier& classifier, const torch::Tensor& support_embeddings,
                              const torch::Tensor& support_labels, const torch::Tensor& old_means,
                              std::int64_t seen, const SessionFinetuneSettings& settings);

@@ -104,11 +104,14 @@ TEST(RandomView, EachPerturbationHasItsDocumentedEffect) {
 TEST(ContextStatisticBank, ReturnsTheFarthestEntryAndForgetsTheOldest) {
   ContextStatisticBank bank(3);
   bank.push(torch::tensor({{0.0f, 1.0f}, {5.0f, 1.0f}, {1.0f, 1.0f}}));
-  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({0.0f, 1.0f})), torch::tensor({5.0f, 1.0f})));
-  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f})), torch::tensor({0.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({0.0f, 1.0f}))[0], torch::tensor({5.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f}))[0], torch::tensor({0.0f, 1.0f})));
   bank.push(torch::tensor({{2.0f, 1.0f}}));  // pushes {0, 1} out
-  EXPECT_EQ(bank.size(), 3u);
-  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f})), torch::tensor({1.0f, 1.0f})));
+  EXPECT_EQ(bank.size(), 3);
+  EXPECT_TRUE(torch::equal(bank.farthest_from(torch::tensor({6.0f, 1.0f}))[0], torch::tensor({1.0f, 1.0f})));
+  // A batch of queries gets one reference each.
+  const torch::Tensor batch = bank.farthest_from(torch::tensor({{6.0f, 1.0f}, {0.0f, 1.0f}}));
+  EXPECT_TRUE(torch::equal(batch, torch::tensor({{1.0f, 1.0f}, {5.0f, 1.0f}})));
 }
 
 TEST(StatisticTransfer, MovesChannelStatisticsTowardTheReference) {

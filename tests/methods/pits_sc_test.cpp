@@ -8,6 +8,7 @@
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "protocols/parameter_set.h"
+#include "tests/methods/tiny_base_session.h"
 
 namespace fscil {
 namespace {
@@ -78,25 +79,6 @@ TEST(PitEpisodeShape, IsPitsScsTwentyTenFiveAndShrinksForSmallProtocols) {
   EXPECT_EQ(small.kept, 6);
 }
 
-// 6 base classes x 25 samples; each raw signal is its class index on channel 0 and its
-// sample index on channel 1, so a mixture shows exactly what it was mixed from.
-SessionData tiny_base() {
-  SessionData base;
-  const std::int64_t n = 6 * 25, length = 16;
-  base.labels = torch::div(torch::arange(n), 25, "floor");
-  base.signals = torch::zeros({n, 2, length});
-  base.signals.select(1, 0).copy_(base.labels.to(torch::kFloat).view({n, 1}).expand({n, length}));
-  base.signals.select(1, 1).copy_(torch::arange(n).to(torch::kFloat).view({n, 1}).expand({n, length}));
-  base.features = torch::randn({n, 2, 4, 4});
-  for (std::int64_t c = 0; c < 6; ++c) base.new_classes.push_back(c);
-  return base;
-}
-
-// A stand-in front end: each channel's mean, spread over a 4 x 4 map.
-torch::Tensor mean_front_end(const torch::Tensor& signals) {
-  return signals.mean(-1).view({signals.size(0), signals.size(1), 1, 1}).expand({-1, -1, 4, 4}).contiguous();
-}
-
 TEST(PitEpisode, HasTheDocumentedCompositionAndMixesRawSignals) {
   const SessionData base = tiny_base();
   PitsScSettings settings;
@@ -152,7 +134,10 @@ TEST(PitEpisodeLoss, WritesThePairPrototypeIntoItsNovelRowAndZeroesTheOthers) {
   ResNet18Encoder encoder(ResNet18Options{2, 4});
   StochasticClassifier classifier(10, 256);
   encoder->train();
-  const torch::Tensor loss = pit_episode_loss(encoder, classifier, episode, sampler.shape(), 6, 10);
+  const TrainingEmbedder embedder = [&](const torch::Tensor& features) {
+    return TrainingEmbedding{encoder->forward(features), {}};
+  };
+  const torch::Tensor loss = pit_episode_loss(embedder, classifier, episode, sampler.shape(), 6, 10);
   EXPECT_TRUE(std::isfinite(loss.item<double>()));
   for (std::int64_t row = 6; row < 10; ++row) {
     const double norm = classifier->mu[row].norm().item<double>();
@@ -182,25 +167,12 @@ class TinyPitsSc : public ::testing::Test {
   std::unique_ptr<PitsScMethod> train(std::uint64_t seed, int epochs_new) {
     torch::manual_seed(seed);
     auto method = std::make_unique<PitsScMethod>(tiny_params(epochs_new));
-    context = RunContext{};
-    context.seed = seed;
-    context.generator = std::mt19937_64(seed);
-    context.total_classes = 10;
-    context.base_classes = 6;
-    context.input = {2, 4, 4, 16};
-    context.front_end = mean_front_end;
+    context = tiny_context(seed);
     method->train_base(base, context);
     return method;
   }
 
-  SessionData support(std::int64_t first_class) const {
-    SessionData data;
-    data.session = first_class == 6 ? 1 : 2;
-    data.features = torch::randn({10, 2, 4, 4}, torch::TensorOptions().dtype(torch::kFloat)) + 1.0;
-    data.labels = torch::div(torch::arange(10), 5, "floor") + first_class;
-    data.new_classes = {first_class, first_class + 1};
-    return data;
-  }
+  static SessionData support(std::int64_t first_class) { return tiny_support(first_class); }
 
   SessionData base = tiny_base();
   RunContext context;

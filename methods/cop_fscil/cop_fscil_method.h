@@ -1,0 +1,56 @@
+#pragma once
+#include <memory>
+
+#include "methods/cop_fscil/context_probe.h"
+#include "methods/cop_fscil/cop_fscil_settings.h"
+#include "methods/cop_fscil/quotient_adapter.h"
+#include "methods/pits_sc/pits_sc_method.h"
+
+namespace fscil {
+
+// CoP-FSCIL (the seed paper) on the PITS-SC stages:
+// - CPI perturbs a share of each pseudo-incremental episode's support and query samples;
+// - PCQA (optional) sits after the encoder, trained with L_CE + lambda L_PIC in both base
+//   stages, and every classification uses its output z_hat;
+// - PSPC (optional) builds each new prototype from probe-stability weights and fine-tunes with
+//   L_new over the new classes plus L_old over the old ones.
+// Without PSPC a session is PITS-SC's update; without PCQA the embedding is the encoder's.
+class CopFscilMethod : public PitsScMethod {
+ public:
+  CopFscilMethod(const ParameterSet& params, CopFscilComponents components);
+  void learn_session(const SessionData& support, RunContext& context) override;
+  torch::Tensor embed(const torch::Tensor& features) override;
+
+  // For tests.
+  const CopFscilComponents& components() const { return components_; }
+  QuotientAdapter& adapter() { return adapter_; }  // empty without PCQA
+  int probes_per_support_sample(const InputShape& input) const;
+
+ protected:
+  void build_network(RunContext& context) override;
+  std::vector<torch::Tensor> network_parameters() override;
+  TrainingEmbedding training_embedding(const torch::Tensor& features, RunContext& context) override;
+  void perturb_episode(PitEpisode& episode, RunContext& context) override;
+
+ private:
+  // N_ps probe embeddings of every support sample: N_ps x N x D.
+  torch::Tensor probe_embeddings(const torch::Tensor& features, int probes, std::mt19937_64& generator);
+  // Replaces a random `share` of the rows of `features` by their CPI probes.
+  void intervene_on_share(torch::Tensor& features, const std::vector<std::int64_t>& rows, double share,
+                          std::mt19937_64& generator);
+
+  CopFscilSettings cop_settings_;
+  CopFscilComponents components_;
+  ContextProbe probe_;
+  QuotientAdapter adapter_{nullptr};
+  // Pretraining batches reach the statistic bank through training_embedding; from the first
+  // episode on, perturb_episode feeds it each episode's unperturbed samples instead.
+  bool bank_fed_by_episodes_ = false;
+};
+
+std::unique_ptr<Method> make_cop_fscil_cpi(const ParameterSet& params);
+std::unique_ptr<Method> make_cop_fscil_cpi_pspc(const ParameterSet& params);
+std::unique_ptr<Method> make_cop_fscil_cpi_pcqa(const ParameterSet& params);
+std::unique_ptr<Method> make_cop_fscil(const ParameterSet& params);
+
+}  // namespace fscil

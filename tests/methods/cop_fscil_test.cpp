@@ -1,0 +1,223 @@
+// CoP-FSCIL as a method: its variants, the episode coverage of CPI, PSPC's session update and
+// its loss, and seeded repeatability, on the tiny 10-class protocol (6 base, 2-way 5-shot).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "methods/common/embedding.h"
+#include "methods/common/running_statistics_guard.h"
+#include "methods/cop_fscil/cop_fscil_method.h"
+#include "methods/cop_fscil/stability_calibration.h"
+#include "methods/method_registry.h"
+#include "methods/pits_sc/pseudo_incremental.h"
+#include "protocols/parameter_set.h"
+#include "tests/methods/tiny_base_session.h"
+
+namespace fscil {
+namespace {
+
+ParameterSet tiny_params(int pit_epochs, int epochs_new) {
+  ParameterSet params;
+  for (const auto& [key, value] : {std::pair{"pretrain_epochs", "1"}, {"pit_episodes", "2"}, {"batch_size", "32"},
+                                   {"pspc_probes", "6"}}) {
+    params.set(key, value);
+  }
+  params.set("pit_epochs", std::to_string(pit_epochs));
+  params.set("epochs_new", std::to_string(epochs_new));
+  return params;
+}
+
+struct Trained {
+  std::unique_ptr<Method> method;
+  RunContext context;
+};
+
+Trained train(const std::string& name, ParameterSet params, std::uint64_t seed = 3) {
+  torch::manual_seed(seed);
+  Trained trained{create_method(name, params), tiny_context(seed)};
+  trained.method->train_base(tiny_base(), trained.context);
+  return trained;
+}
+
+torch::Tensor logits_on_fixed_probe(Method& method) {
+  torch::manual_seed(99);
+  return method.logits(torch::randn({12, 2, 4, 4}));
+}
+
+CopFscilMethod& as_cop(Method& method) { return dynamic_cast<CopFscilMethod&>(method); }
+
+TEST(CopFscilVariants, AblationRunsPitsScPlusTheFourAndAllIncludesThem) {
+  const std::vector<std::string> ablation = {"pits-sc", "cop-fscil/cpi", "cop-fscil/cpi+pspc", "cop-fscil/cpi+pcqa",
+                                             "cop-fscil"};
+  EXPECT_EQ(resolve_method_names("ablation"), ablation);
+  const auto all = resolve_method_names("all");
+  for (const auto& name : ablation) EXPECT_NE(std::find(all.begin(), all.end(), name), all.end()) << name;
+  ParameterSet params;
+  const std::vector<std::pair<std::string, CopFscilComponents>> expected = {
+      {"cop-fscil/cpi", {false, false}},
+      {"cop-fscil/cpi+pspc", {false, true}},
+      {"cop-fscil/cpi+pcqa", {true, false}},
+      {"cop-fscil", {true, true}}};
+  for (const auto& [name, components] : expected) {
+    auto method = create_method(name, params);
+    EXPECT_EQ(as_cop(*method).components().pcqa, components.pcqa) << name;
+    EXPECT_EQ(as_cop(*method).components().pspc, components.pspc) << name;
+  }
+}
+
+TEST(CopFscilVariants, CpiActsOnlyInPseudoIncrementalEpisodes) {
+  // Without episodes cop-fscil/cpi is pits-sc to the bit; with them it is not.
+  auto pits = train("pits-sc", tiny_params(0, 0));
+  auto cpi = train("cop-fscil/cpi", tiny_params(0, 0));
+  EXPECT_TRUE(torch::equal(logits_on_fixed_probe(*pits.method), logits_on_fixed_probe(*cpi.method)));
+  auto pits_episodes = train("pits-sc", tiny_params(1, 0));
+  auto cpi_episodes = train("cop-fscil/cpi", tiny_params(1, 0));
+  EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*pits_episodes.method), logits_on_fixed_probe(*cpi_episodes.method)));
+  // Without PSPC a session is pits-sc's: new rows start at the mean support embedding.
+  ParameterSet params = tiny_params(1, 0);
+  auto cpi_session = train("cop-fscil/cpi", params);
+  const SessionData support = tiny_support(6);
+  cpi_session.method->learn_session(support, cpi_session.context);
+  const torch::Tensor embeddings = cpi_session.method->embed(support.features);
+  const torch::Tensor mu = as_cop(*cpi_session.method).classifier()->mu.detach();
+  EXPECT_TRUE(torch::allclose(mu[6], embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
+}
+
+TEST(CopFscilVariants, PspcChangesOnlySessionsAndPcqaChangesTheEmbedding) {
+  for (const auto& [without_pspc, with_pspc] : {std::pair{"cop-fscil/cpi", "cop-fscil/cpi+pspc"},
+                                                {"cop-fscil/cpi+pcqa", "cop-fscil"}}) {
+    auto plain = train(without_pspc, tiny_params(1, 5));
+    auto calibrated = train(with_pspc, tiny_params(1, 5));
+    EXPECT_TRUE(torch::equal(logits_on_fixed_probe(*plain.method), logits_on_fixed_probe(*calibrated.method)))
+        << with_pspc << " differs from " << without_pspc << " before any session";
+    const SessionData support = tiny_support(6);
+    plain.method->learn_session(support, plain.context);
+    calibrated.method->learn_session(support, calibrated.context);
+    EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*plain.method), logits_on_fixed_probe(*calibrated.method)))
+        << with_pspc << " and " << without_pspc << " after a session";
+  }
+  auto cpi = train("cop-fscil/cpi", tiny_params(1, 0));
+  auto pcqa = train("cop-fscil/cpi+pcqa", tiny_params(1, 0));
+  EXPECT_TRUE(as_cop(*cpi.method).adapter().is_empty());
+  ASSERT_FALSE(as_cop(*pcqa.method).adapter().is_empty());
+  // With PCQA the embedding is z_hat: rank-deficient by the D - d_inv dropped directions, so
+  // its norm equals that of its invariant block and is below the encoder's.
+  torch::manual_seed(7);
+  const torch::Tensor features = torch::randn({4, 2, 4, 4});
+  const torch::Tensor z_hat = pcqa.method->embed(features);
+  const torch::Tensor z = embed_in_batches(as_cop(*pcqa.method).encoder(), features);
+  EXPECT_TRUE(torch::all(z_hat.norm(2, 1) < z.norm(2, 1)).item<bool>());
+  torch::NoGradGuard no_grad;
+  const auto projection = as_cop(*pcqa.method).adapter()->project(as_cop(*pcqa.method).adapter()->reflections_of(z), z);
+  EXPECT_TRUE(torch::allclose(z_hat, projection.quotient, 1e-5, 1e-6));
+  EXPECT_EQ(projection.invariant.size(1), 192);
+}
+
+TEST(CopFscilSession, WithoutContextProbesPspcIsThePlainSupportMean) {
+  // All view ranges 0: every probe equals its sample, U = 0, weights are uniform.
+  ParameterSet params = tiny_params(0, 0);
+  for (const char* key : {"cpi_global_bias", "cpi_channel_bias", "cpi_tilt", "cpi_noise", "cpi_max_shift"}) {
+    params.set(key, "0");
+  }
+  auto still = train("cop-fscil", params);
+  const SessionData support = tiny_support(6);
+  still.method->learn_session(support, still.context);
+  const torch::Tensor z_hat = still.method->embed(support.features);
+  const torch::Tensor mu = as_cop(*still.method).classifier()->mu.detach();
+  EXPECT_TRUE(torch::allclose(mu[6], z_hat.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(mu[7], z_hat.narrow(0, 5, 5).mean(0), 1e-4, 1e-5));
+  // With probes the calibrated prototype moves away from the plain mean.
+  auto probed = train("cop-fscil", tiny_params(0, 0));
+  probed.method->learn_session(support, probed.context);
+  const torch::Tensor probed_mu = as_cop(*probed.method).classifier()->mu.detach();
+  EXPECT_FALSE(torch::allclose(probed_mu[6], probed.method->embed(support.features).narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
+}
+
+TEST(CopFscilSession, ProbeCountFollowsTheInputShapeUnlessSet) {
+  ParameterSet params;
+  auto method = create_method("cop-fscil", params);
+  EXPECT_EQ(as_cop(*method).probes_per_support_sample({5, 64, 24, 500}), 100);   // HapTex-shaped
+  EXPECT_EQ(as_cop(*method).probes_per_support_sample({3, 64, 493, 8000}), 10);  // LMT108-shaped
+  ParameterSet set;
+  set.set("pspc_probes", "7");
+  EXPECT_EQ(as_cop(*create_method("cop-fscil", set)).probes_per_support_sample({5, 64, 24, 500}), 7);
+}
+
+TEST(PspcLoss, NewClassesLearnOnlyFromTheSupportAndOldOnesOnlyFromTheirMeans) {
+  torch::manual_seed(4);
+  StochasticClassifier classifier(6, 8);
+  {
+    torch::NoGradGuard no_grad;
+    classifier->sigma.fill_(-40.0);  // noise ~1e-17: the comparison below is deterministic
+  }
+  const torch::Tensor support = torch::randn({4, 8}), labels = torch::tensor(std::vector<std::int64_t>{3, 3, 4, 4});
+  const torch::Tensor old_means = torch::randn({3, 8});
+  namespace F = torch::nn::functional;
+  new_and_old_loss(classifier, support, labels, old_means, 3, 5).backward();
+  const torch::Tensor both = classifier->mu.grad().clone();
+  classifier->mu.mutable_grad().zero_();
+  F::cross_entropy(classifier->forward(support, 5, true).narrow(1, 3, 2), labels - 3).backward();
+  const torch::Tensor from_new = classifier->mu.grad().clone();
+  EXPECT_EQ(from_new.narrow(0, 0, 3).abs().sum().item<double>(), 0.0);  // the support never touches old rows
+  EXPECT_TRUE(torch::allclose(both.narrow(0, 3, 2), from_new.narrow(0, 3, 2), 1e-5, 1e-7));
+  EXPECT_GT(both.narrow(0, 0, 3).abs().sum().item<double>(), 0.0);  // old rows learn from their means
+  EXPECT_EQ(both[5].abs().sum().item<double>(), 0.0);               // the unseen row does not move
+}
+
+// Exposes the episode hook to check CPI's coverage.
+class EpisodeProbe : public CopFscilMethod {
+ public:
+  using CopFscilMethod::CopFscilMethod;
+  using CopFscilMethod::perturb_episode;
+};
+
+TEST(CopFscilEpisode, PerturbsSixtyPercentOfSupportAndEveryQueryKeepingLabels) {
+  const SessionData base = tiny_base();
+  ParameterSet params;
+  const PitEpisodeSampler sampler(base, 6, 10, PitsScSettings::from(params));
+  std::mt19937_64 generator(8);
+  PitEpisode episode = sampler.draw(generator, mean_front_end);
+  const PitEpisode before{episode.kept_features.clone(), episode.kept_labels.clone(), episode.mixed_signals,
+                          episode.mixed_features.clone(), episode.first_class, episode.second_class, episode.lambda,
+                          episode.novel_rows, episode.query_labels.clone()};
+  EpisodeProbe method(params, CopFscilComponents{false, false});
+  RunContext context = tiny_context(8);
+  method.perturb_episode(episode, context);
+  const auto changed = [](const torch::Tensor& a, const torch::Tensor& b) {
+    return (a - b).flatten(1).abs().amax(1) > 1e-6;
+  };
+  const torch::Tensor mixed_changed = changed(episode.mixed_features, before.mixed_features).view({1, 20});
+  EXPECT_EQ(mixed_changed.narrow(1, 0, 5).sum().item<std::int64_t>(), 3);  // 60% of 5 shots
+  EXPECT_EQ(mixed_changed.narrow(1, 5, 15).sum().item<std::int64_t>(), 15);
+  EXPECT_EQ(changed(episode.kept_features, before.kept_features).sum().item<std::int64_t>(), 80);
+  EXPECT_EQ(episode.mixed_features.sizes(), before.mixed_features.sizes());
+  EXPECT_TRUE(torch::equal(episode.kept_labels, before.kept_labels));
+  EXPECT_TRUE(torch::equal(episode.query_labels, before.query_labels));
+}
+
+TEST(RunningStatisticsGuard, UndoesTheBatchNormUpdatesOfATrainingForward) {
+  torch::nn::BatchNorm1d norm(3);
+  norm->train();
+  const torch::Tensor mean_before = norm->running_mean.clone();
+  {
+    const RunningStatisticsGuard guard(*norm);
+    norm->forward(5 + torch::randn({16, 3}));
+    EXPECT_FALSE(torch::equal(norm->running_mean, mean_before));
+  }
+  EXPECT_TRUE(torch::equal(norm->running_mean, mean_before));
+}
+
+TEST(CopFscil, SeededRunsRepeatExactly) {
+  const SessionData support = tiny_support(6);
+  auto one = train("cop-fscil", tiny_params(1, 3), 4);
+  one.method->learn_session(support, one.context);
+  auto two = train("cop-fscil", tiny_params(1, 3), 4);
+  two.method->learn_session(support, two.context);
+  EXPECT_TRUE(torch::equal(logits_on_fixed_probe(*one.method), logits_on_fixed_probe(*two.method)));
+  auto other = train("cop-fscil", tiny_params(1, 3), 5);
+  other.method->learn_session(support, other.context);
+  EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*one.method), logits_on_fixed_probe(*other.method)));
+}
+
+}  // namespace
+}  // namespace fscil
