@@ -46,6 +46,15 @@ torch::Tensor logits_on_fixed_probe(Method& method) {
 
 CopFscilMethod& as_cop(Method& method) { return dynamic_cast<CopFscilMethod&>(method); }
 
+// After one session: the classifier's mu and the support's embeddings.
+struct AfterSession {
+  torch::Tensor mu, support_embeddings;
+};
+AfterSession learn(Trained& trained, const SessionData& support) {
+  trained.method->learn_session(support, trained.context);
+  return {as_cop(*trained.method).classifier()->mu.detach(), trained.method->embed(support.features)};
+}
+
 TEST(CopFscilVariants, AblationRunsPitsScPlusTheFourAndAllIncludesThem) {
   const std::vector<std::string> ablation = {"pits-sc", "cop-fscil/cpi", "cop-fscil/cpi+pspc", "cop-fscil/cpi+pcqa",
                                              "cop-fscil"};
@@ -74,13 +83,9 @@ TEST(CopFscilVariants, CpiActsOnlyInPseudoIncrementalEpisodes) {
   auto cpi_episodes = train("cop-fscil/cpi", tiny_params(1, 0));
   EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*pits_episodes.method), logits_on_fixed_probe(*cpi_episodes.method)));
   // Without PSPC a session is pits-sc's: new rows start at the mean support embedding.
-  ParameterSet params = tiny_params(1, 0);
-  auto cpi_session = train("cop-fscil/cpi", params);
-  const SessionData support = tiny_support(6);
-  cpi_session.method->learn_session(support, cpi_session.context);
-  const torch::Tensor embeddings = cpi_session.method->embed(support.features);
-  const torch::Tensor mu = as_cop(*cpi_session.method).classifier()->mu.detach();
-  EXPECT_TRUE(torch::allclose(mu[6], embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
+  auto cpi_session = train("cop-fscil/cpi", tiny_params(1, 0));
+  const AfterSession after = learn(cpi_session, tiny_support(6));
+  EXPECT_TRUE(torch::allclose(after.mu[6], after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
 }
 
 TEST(CopFscilVariants, PspcChangesOnlySessionsAndPcqaChangesTheEmbedding) {
@@ -121,16 +126,14 @@ TEST(CopFscilSession, WithoutContextProbesPspcIsThePlainSupportMean) {
   }
   auto still = train("cop-fscil", params);
   const SessionData support = tiny_support(6);
-  still.method->learn_session(support, still.context);
-  const torch::Tensor z_hat = still.method->embed(support.features);
-  const torch::Tensor mu = as_cop(*still.method).classifier()->mu.detach();
-  EXPECT_TRUE(torch::allclose(mu[6], z_hat.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
-  EXPECT_TRUE(torch::allclose(mu[7], z_hat.narrow(0, 5, 5).mean(0), 1e-4, 1e-5));
+  const AfterSession after = learn(still, support);
+  EXPECT_TRUE(torch::allclose(after.mu[6], after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(after.mu[7], after.support_embeddings.narrow(0, 5, 5).mean(0), 1e-4, 1e-5));
   // With probes the calibrated prototype moves away from the plain mean.
   auto probed = train("cop-fscil", tiny_params(0, 0));
-  probed.method->learn_session(support, probed.context);
-  const torch::Tensor probed_mu = as_cop(*probed.method).classifier()->mu.detach();
-  EXPECT_FALSE(torch::allclose(probed_mu[6], probed.method->embed(support.features).narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
+  const AfterSession probed_after = learn(probed, support);
+  EXPECT_FALSE(
+      torch::allclose(probed_after.mu[6], probed_after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
 }
 
 TEST(CopFscilSession, ProbeCountFollowsTheInputShapeUnlessSet) {
