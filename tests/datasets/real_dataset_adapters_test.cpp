@@ -8,22 +8,13 @@
 #include "datasets/dataset_error.h"
 #include "protocols/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
+#include "tests/datasets/prepare_from_root.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {
 namespace {
 
 namespace fs = std::filesystem;
-
-PreparedDataset prepare(const std::string& name, const fs::path& root, const ParameterSet& params = {},
-                        const fs::path& cache = {}) {
-  DatasetRequest request;
-  request.data_root = root;
-  request.cache_dir = cache;
-  request.threads = 2;
-  std::stringstream log;
-  return prepare_dataset(name, request, params, log);
-}
 
 std::vector<std::int64_t> feature_shape(const PreparedDataset& dataset) {
   return {dataset.features.shape.begin() + 1, dataset.features.shape.end()};
@@ -38,7 +29,7 @@ int count_split(const PreparedDataset& dataset, SplitHint hint) {
 TEST(Lmt108Adapter, ReadsMaterialsGroupsAndTheDatabasesOwnTestRecordings) {
   TemporaryDirectory root;
   write_lmt108_fixture(root.path(), {});
-  const PreparedDataset dataset = prepare("lmt108", root.path());
+  const PreparedDataset dataset = prepare_from_root("lmt108", root.path());
   EXPECT_EQ(dataset.description.class_names,
             (std::vector<std::string>{"G1EpoxyRasterPlate", "G1NylonBag", "G2BrickRough"}));
   EXPECT_EQ(dataset.description.group_names, (std::vector<std::string>{"G1", "G2"}));
@@ -63,7 +54,7 @@ TEST(Lmt108Adapter, AddsFrictionAndSoundChannelsWhenAsked) {
   write_lmt108_fixture(root.path(), fixture);
   ParameterSet params;
   params.set("lmt108_signals", "accel+friction+sound");
-  const PreparedDataset dataset = prepare("lmt108", root.path(), params);
+  const PreparedDataset dataset = prepare_from_root("lmt108", root.path(), params);
   EXPECT_EQ(dataset.description.channel_names,
             (std::vector<std::string>{"accel_x", "accel_y", "accel_z", "friction", "sound"}));
   EXPECT_EQ(feature_shape(dataset), (std::vector<std::int64_t>{5, 64, 493}));
@@ -76,7 +67,7 @@ TEST(Lmt108Adapter, AddsFrictionAndSoundChannelsWhenAsked) {
 TEST(HaptexAdapter, ReadsTheFolderFormatWithHaptexShapes) {
   TemporaryDirectory root;
   write_haptex_fixture(root.path(), {});
-  const PreparedDataset dataset = prepare("haptex", root.path());
+  const PreparedDataset dataset = prepare_from_root("haptex", root.path());
   EXPECT_EQ(dataset.description.class_names.size(), 4u);
   EXPECT_EQ(dataset.description.class_names[3], "fabric03");
   EXPECT_EQ(dataset.description.group_names, (std::vector<std::string>{"weave0", "weave1"}));
@@ -108,7 +99,7 @@ TEST(FolderAdapter, ReadsContextsSplitsAndOneTxtPerChannel) {
     }
   }
   write_text(root.path() / "manifest.csv", manifest);
-  const PreparedDataset dataset = prepare("folder", root.path());
+  const PreparedDataset dataset = prepare_from_root("folder", root.path());
   EXPECT_EQ(dataset.description.name, "lab");
   // 500 samples, 250-sample segments every 125: 3 per recording.
   EXPECT_EQ(dataset.segments.count(), 2 * 3 * 3);
@@ -126,7 +117,7 @@ TEST(FolderAdapter, ReadsContextsSplitsAndOneTxtPerChannel) {
 TEST(AudioAdapters, Ls100ReadsListedSplitsAndRepeatsMonoToThreeChannels) {
   TemporaryDirectory root;
   write_ls100_fixture(root.path(), {});
-  const PreparedDataset dataset = prepare("ls100", root.path());
+  const PreparedDataset dataset = prepare_from_root("ls100", root.path());
   EXPECT_EQ(dataset.description.class_names, (std::vector<std::string>{"speaker100", "speaker101", "speaker102",
                                                                        "speaker103"}));
   EXPECT_EQ(dataset.segments.count(), 4 * 8);  // one segment per 2 s clip
@@ -140,7 +131,7 @@ TEST(AudioAdapters, Ls100ReadsListedSplitsAndRepeatsMonoToThreeChannels) {
 TEST(AudioAdapters, Ns100MapsInstrumentsThroughTheVocabulary) {
   TemporaryDirectory root;
   write_ns100_fixture(root.path(), {3, 2, 1, 1});
-  const PreparedDataset dataset = prepare("ns100", root.path());
+  const PreparedDataset dataset = prepare_from_root("ns100", root.path());
   EXPECT_EQ(dataset.description.class_names, (std::vector<std::string>{"instrument_0", "instrument_1", "instrument_2"}));
   EXPECT_EQ(dataset.segments.count(), 3 * 4);
   EXPECT_EQ(feature_shape(dataset), (std::vector<std::int64_t>{1, 128, 63}));

@@ -11,6 +11,7 @@
 #include "datasets/feature_cache.h"
 #include "protocols/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
+#include "tests/datasets/prepare_from_root.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {
@@ -21,13 +22,8 @@ namespace fs = std::filesystem;
 // The message of the DatasetError that loading `name` from `root` raises ("" if none).
 std::string load_error(const std::string& name, const fs::path& root, const ParameterSet& params = {},
                        const fs::path& cache = {}) {
-  DatasetRequest request;
-  request.data_root = root;
-  request.cache_dir = cache;
-  request.threads = 2;
-  std::stringstream log;
   try {
-    prepare_dataset(name, request, params, log);
+    prepare_from_root(name, root, params, cache);
   } catch (const DatasetError& error) {
     return error.what();
   }
