@@ -40,6 +40,12 @@ struct RunContext {
   ProgressReporter* progress = nullptr;
 };
 
+// Real old samples a method stores for replay; zero for methods that keep none.
+struct ReplayFootprint {
+  std::int64_t samples = 0;
+  std::int64_t bytes = 0;
+};
+
 // A FSCIL method. The runner calls train_base once, then learn_session per incremental
 // session, and tests after each through embed() and classify(). A method reads every
 // hyper-parameter from the ParameterSet in its constructor, so bad values fail before training.
@@ -52,6 +58,7 @@ class Method {
   virtual torch::Tensor embed(const torch::Tensor& features) = 0;
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
+  virtual ReplayFootprint replay_footprint() const { return {}; }
 
   torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }
   // Top-1 accuracy in percent on labelled data (the base validation split, for progress notes).

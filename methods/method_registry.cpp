@@ -6,6 +6,7 @@
 
 #include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/method.h"
+#include "methods/orco/orco_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/prototype/prototype_method.h"
 
@@ -24,6 +25,8 @@ const std::vector<MethodEntry>& method_registry() {
       {"cop-fscil/cpi+pcqa", "CoP-FSCIL ablation: CPI plus the probe-conditioned quotient adapter with L_PIC",
        &make_cop_fscil_cpi_pcqa},
       {"cop-fscil", "CoP-FSCIL: CPI, PCQA with L_PIC, and PSPC on the pits-sc stages", &make_cop_fscil},
+      {"orco", "OrCo-style: pseudo-targets, Hungarian assignment, projector trained with SupCon, orthogonality and "
+       "CE; replays 5 exemplars per base class and every earlier shot", &make_orco_method},
   };
   return table;
 }

@@ -69,7 +69,8 @@ std::string to_json_text(const RunRecord& record) {
                          {"dataset_key", record.dataset_key},
                          {"sessions", sessions},
                          {"total_seconds", record.total_seconds},
-                         {"peak_resident_bytes", record.peak_resident_bytes}};
+                         {"peak_resident_bytes", record.peak_resident_bytes},
+                         {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}}};
   return document.dump(2) + "\n";
 }
 
@@ -92,6 +93,11 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.dataset_key = document.at("dataset_key").get<std::string>();
     record.total_seconds = document.at("total_seconds").get<double>();
     record.peak_resident_bytes = document.at("peak_resident_bytes").get<std::int64_t>();
+    // Files written before replay was recorded have none: their methods kept no samples.
+    if (document.contains("replay")) {
+      record.replay_samples = document.at("replay").at("samples").get<std::int64_t>();
+      record.replay_bytes = document.at("replay").at("bytes").get<std::int64_t>();
+    }
     for (const auto& s : document.at("sessions")) {
       SessionRecord session;
       session.session = s.at("session").get<int>();

@@ -36,6 +36,9 @@ struct RunRecord {
   std::vector<SessionRecord> sessions;
   double total_seconds = 0;
   std::int64_t peak_resident_bytes = 0;
+  // Real old samples the method stores after its last session (OrCo's trade-off); 0 for none.
+  std::int64_t replay_samples = 0;
+  std::int64_t replay_bytes = 0;
 
   std::vector<double> session_accuracies() const;
 };

@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
   logmel_command->add_option("--threads", logmel.threads, "threads (0 = all cores)");
 
   std::string results_dir, report_out;
-  auto* report = app.add_subcommand("report", "Rebuild summary.csv, results.tex and the Markdown table from result files");
+  auto* report = app.add_subcommand(
+      "report", "Rebuild summary.csv, results.tex, costs.csv, costs.tex and the Markdown tables from result files");
   report->add_option("--results", results_dir, "directory holding result JSON files")->required();
   report->add_option("--out", report_out, "where to write the tables (default: the results directory)");
 

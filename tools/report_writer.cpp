@@ -1,6 +1,7 @@
 #include "tools/report_writer.h"
 
 #include "reports/atomic_file.h"
+#include "reports/cost_table.h"
 #include "reports/summary_table.h"
 
 namespace fscil {
@@ -9,7 +10,10 @@ std::string write_reports(const std::filesystem::path& out, const std::vector<Ru
   const SummaryTable table = summarize_runs(records);
   write_file_atomically(out / "summary.csv", render_csv(table));
   write_file_atomically(out / "results.tex", render_latex(table));
-  return render_markdown(table);
+  const std::vector<CostRow> costs = summarize_costs(records);
+  write_file_atomically(out / "costs.csv", render_cost_csv(costs));
+  write_file_atomically(out / "costs.tex", render_cost_latex(costs));
+  return render_markdown(table) + "\n" + render_cost_markdown(costs);
 }
 
 }  // namespace fscil

@@ -139,13 +139,17 @@ void run_benchmark(const RunOptions& options) {
       }
       record.total_seconds = run_clock.seconds();
       record.peak_resident_bytes = peak_resident_bytes();
+      const ReplayFootprint replay = method->replay_footprint();
+      record.replay_samples = replay.samples;
+      record.replay_bytes = replay.bytes;
       save_run_record(options.out, record);
       records.push_back(std::move(record));
     }
   }
   const std::string markdown = write_reports(options.out, records);
   fmt::print("{}", markdown);
-  fmt::print("Results: {}/summary.csv, {}/results.tex, one JSON per run in {}/results/\n", options.out, options.out,
+  fmt::print("Results: {0}/summary.csv, {0}/results.tex, costs in {0}/costs.csv and {0}/costs.tex, one JSON per run in "
+             "{0}/results/\n",
              options.out);
 }
 

@@ -48,6 +48,14 @@ TEST(RunRecord, RoundTripsThroughJson) {
   EXPECT_EQ(copy.session_accuracies(), original.session_accuracies());
   EXPECT_DOUBLE_EQ(copy.sessions[1].accuracy.base, 81.5);
   EXPECT_EQ(copy.peak_resident_bytes, 1 << 20);
+  EXPECT_EQ(copy.replay_samples, 0);
+
+  RunRecord replaying = original;
+  replaying.replay_samples = 400;
+  replaying.replay_bytes = 400 * 7680 * 4;
+  const RunRecord replay_copy = run_record_from_json_text(to_json_text(replaying), "memory");
+  EXPECT_EQ(replay_copy.replay_samples, 400);
+  EXPECT_EQ(replay_copy.replay_bytes, 400 * 7680 * 4);
   EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
 }
 

@@ -86,6 +86,13 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   std::getline(rebuilt, header);
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(rebuilt), {}), first_summary);
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results.tex"));
+  std::ifstream costs(out.path() / "costs.csv");
+  std::getline(costs, header);
+  EXPECT_EQ(header, "method,dataset,runs,base_train_s,update_s,peak_rss_mib,replay_samples,replay_mib");
+  std::string prototype_costs;
+  std::getline(costs, prototype_costs);
+  EXPECT_EQ(prototype_costs.rfind("prototype,simtex-mini,2,", 0), 0u) << prototype_costs;
+  EXPECT_NE(report.output.find("### costs"), std::string::npos);
 
   // simtex-mini knows its contexts, so every session records R and analyze tabulates it. Its
   // test split holds one recording (one context) per class, so R is exactly 0 there.

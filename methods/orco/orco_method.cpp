@@ -1,0 +1,225 @@
+#include "methods/orco/orco_method.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <numeric>
+
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/embedding.h"
+#include "methods/common/masked_view.h"
+#include "methods/orco/orco_losses.h"
+#include "methods/orco/pseudo_targets.h"
+#include "protocols/seeded_shuffle.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+namespace {
+
+torch::Tensor unit_rows(const torch::Tensor& x) { return F::normalize(x, F::NormalizeFuncOptions().dim(-1)); }
+
+// Two distinct views per sample, picked at random from the V cached ones: B x 2 x D.
+torch::Tensor pick_view_pairs(const torch::Tensor& views, std::mt19937_64& generator) {
+  const std::int64_t n = views.size(0), v = views.size(1);
+  std::vector<std::int64_t> first(static_cast<std::size_t>(n)), second(static_cast<std::size_t>(n));
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    first[i] = std::uniform_int_distribution<std::int64_t>(0, v - 1)(generator);
+    second[i] = (first[i] + std::uniform_int_distribution<std::int64_t>(1, v - 1)(generator)) % v;
+  }
+  const torch::Tensor index = torch::stack({torch::tensor(first), torch::tensor(second)}, 1);
+  return views.gather(1, index.unsqueeze(2).expand({n, 2, views.size(2)}));
+}
+
+}  // namespace
+
+OrcoMethod::OrcoMethod(const ParameterSet& params) : settings_(OrcoSettings::from(params)) {}
+
+void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
+  base_classes_ = context.base_classes;
+  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  projector_ = Projector(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
+  pretrain(base, context);
+
+  targets_ = make_pseudo_targets(context.total_classes, settings_.projection_size, settings_.target_steps,
+                                 settings_.target_lr, context.generator);
+  target_taken_.assign(static_cast<std::size_t>(context.total_classes), false);
+  class_targets_.clear();
+  assign_classes(base.features, base.labels, base.new_classes);
+
+  const torch::Tensor views = encoded_views(base.features, context);
+  // Contrast against perturbed copies of the free targets, labelled apart from every class.
+  const torch::Tensor free_rows = torch::tensor(free_target_rows(), torch::kLong);
+  ProjectorObjective objective;
+  objective.perturbed_targets = targets_.index_select(0, free_rows);
+  objective.perturbed_labels = free_rows + context.total_classes;
+  train_projector(views, base.labels, settings_.base, objective, context, "projector");
+  phase_two_projector_ = ParameterSnapshot(*projector_);
+  memory_ = ReplayMemory();
+  memory_.keep_base_exemplars(base.features, base.labels, base_classes_, settings_.exemplars_per_base_class);
+  if (context.validation != nullptr && context.progress != nullptr) {
+    context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy_on(*context.validation)));
+  }
+}
+
+// Phase 1: encoder + projector with cross-entropy on a cosine classifier over the encoder's
+// embedding and supervised contrastive loss over two masked views.
+void OrcoMethod::pretrain(const SessionData& base, RunContext& context) {
+  CosineClassifier classifier(base_classes_, encoder_->embedding_size(), settings_.temperature);
+  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  for (const auto& parameter : projector_->parameters()) parameters.push_back(parameter);
+  for (const auto& parameter : classifier->parameters()) parameters.push_back(parameter);
+  encoder_->train();
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    const torch::Tensor both = torch::cat(
+        {masked_view(features, settings_.mask_time_fraction, settings_.mask_mel_fraction, context.generator),
+         masked_view(features, settings_.mask_time_fraction, settings_.mask_mel_fraction, context.generator)});
+    const torch::Tensor encodings = encoder_->forward(both);
+    const std::int64_t n = features.size(0);
+    const torch::Tensor projections = unit_rows(projector_->forward(encodings)).view({2, n, -1}).transpose(0, 1);
+    return F::cross_entropy(classifier->forward(encodings, base_classes_), labels.repeat({2})) +
+           supervised_contrastive_loss(projections, labels, settings_.supcon_temperature);
+  };
+  train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
+  encoder_->eval();
+}
+
+torch::Tensor OrcoMethod::encoded_views(const torch::Tensor& features, RunContext& context) {
+  std::vector<torch::Tensor> views;
+  for (int v = 0; v < settings_.views; ++v) {
+    views.push_back(embed_in_batches(
+        encoder_, masked_view(features, settings_.mask_time_fraction, settings_.mask_mel_fraction, context.generator)));
+  }
+  return torch::stack(views, 1);
+}
+
+torch::Tensor OrcoMethod::project(const torch::Tensor& encodings) { return unit_rows(projector_->forward(encodings)); }
+
+void OrcoMethod::assign_classes(const torch::Tensor& features, const torch::Tensor& labels,
+                                const std::vector<std::int64_t>& classes) {
+  if (classes.front() != static_cast<std::int64_t>(class_targets_.size())) {
+    throw MethodError(fmt::format("classes start at {}, expected {}", classes.front(), class_targets_.size()));
+  }
+  torch::Tensor means;
+  {
+    torch::NoGradGuard no_grad;
+    means = class_means(project(embed_in_batches(encoder_, features)), labels, classes);
+  }
+  const std::vector<std::int64_t> free_targets = free_target_rows();
+  if (free_targets.size() < classes.size()) {
+    throw MethodError(fmt::format("{} new classes but only {} free pseudo-targets", classes.size(), free_targets.size()));
+  }
+  for (std::int64_t target : assign_to_targets(means, targets_, free_targets)) {
+    target_taken_[static_cast<std::size_t>(target)] = true;
+    class_targets_.push_back(target);
+  }
+}
+
+torch::Tensor OrcoMethod::seen_targets() const { return targets_.index_select(0, torch::tensor(class_targets_)); }
+
+std::vector<std::int64_t> OrcoMethod::free_target_rows() const {
+  std::vector<std::int64_t> rows;
+  for (std::size_t t = 0; t < target_taken_.size(); ++t) {
+    if (!target_taken_[t]) rows.push_back(static_cast<std::int64_t>(t));
+  }
+  return rows;
+}
+
+torch::Tensor OrcoMethod::unassigned_targets() const {
+  const std::vector<std::int64_t> rows = free_target_rows();
+  if (rows.empty()) return torch::zeros({0, targets_.size(1)});
+  return targets_.index_select(0, torch::tensor(rows));
+}
+
+void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor& labels,
+                                 const ProjectorSchedule& schedule, const ProjectorObjective& objective,
+                                 RunContext& context, const std::string& phase) {
+  const torch::Tensor assigned = seen_targets();
+  const torch::Tensor assigned_labels = torch::arange(assigned.size(0), torch::kLong);
+  const torch::Tensor unassigned = unassigned_targets();
+  torch::optim::SGD optimizer(projector_->parameters(), torch::optim::SGDOptions(schedule.learning_rate)
+                                                            .momentum(schedule.momentum)
+                                                            .dampening(schedule.dampening)
+                                                            .weight_decay(schedule.weight_decay));
+  const std::int64_t samples = views.size(0);
+  std::vector<std::int64_t> order(static_cast<std::size_t>(samples));
+  for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
+    const double rate = schedule.final_rate + (schedule.learning_rate - schedule.final_rate) *
+                                                  (1.0 + std::cos(M_PI * epoch / schedule.epochs)) / 2.0;
+    for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
+    std::iota(order.begin(), order.end(), 0);
+    shuffle_with(order, context.generator);
+    double loss_sum = 0;
+    int batches = 0;
+    for (std::int64_t first = 0; first < samples; first += schedule.batch_size) {
+      const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
+      const torch::Tensor index =
+          torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
+      const torch::Tensor batch_labels = labels.index_select(0, index);
+      const torch::Tensor pairs = pick_view_pairs(views.index_select(0, index), context.generator);
+      const torch::Tensor projections = project(pairs.flatten(0, 1)).view({size, 2, -1});
+      torch::Tensor contrast = projections, contrast_labels = batch_labels;
+      if (objective.perturbed_targets.size(0) > 0) {
+        const PerturbedTargets perturbed =
+            perturb_targets(objective.perturbed_targets, objective.perturbed_labels, size, settings_.perturb_epsilon,
+                            settings_.perturb_offset, context.generator);
+        contrast = torch::cat({projections, perturbed.views});
+        contrast_labels = torch::cat({batch_labels, perturbed.labels});
+      }
+      torch::Tensor loss = supervised_contrastive_loss(contrast, contrast_labels, settings_.supcon_temperature) +
+                           orthogonality_loss(projections.select(1, 0), batch_labels, assigned, assigned_labels,
+                                              unassigned);
+      const torch::Tensor covered = batch_labels.repeat({2}) >= objective.cross_entropy_from_class;
+      if (covered.any().item<bool>()) {
+        const torch::Tensor logits = projections.transpose(0, 1).flatten(0, 1).matmul(assigned.t());
+        loss = loss + objective.cross_entropy_weight *
+                          F::cross_entropy(logits.index({covered}), batch_labels.repeat({2}).index({covered}));
+      }
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      loss_sum += loss.item<double>();
+      ++batches;
+    }
+    if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, loss_sum / batches);
+  }
+}
+
+void OrcoMethod::learn_session(const SessionData& support, RunContext& context) {
+  phase_two_projector_.restore_into(*projector_);
+  assign_classes(support.features, support.labels, support.new_classes);
+  memory_.keep_all(support.features, support.labels);
+
+  // Contrast against perturbed copies of the incremental classes' targets and of the free ones.
+  std::vector<std::int64_t> rows, labels;
+  for (std::size_t c = static_cast<std::size_t>(base_classes_); c < class_targets_.size(); ++c) {
+    rows.push_back(class_targets_[c]);
+    labels.push_back(static_cast<std::int64_t>(c));
+  }
+  for (std::int64_t row : free_target_rows()) {
+    rows.push_back(row);
+    labels.push_back(context.total_classes + row);
+  }
+  ProjectorObjective objective;
+  objective.perturbed_targets = targets_.index_select(0, torch::tensor(rows));
+  objective.perturbed_labels = torch::tensor(labels);
+  objective.cross_entropy_from_class = base_classes_;
+  objective.cross_entropy_weight = settings_.novel_ce_weight;
+  train_projector(encoded_views(memory_.features(), context), memory_.labels(), settings_.session, objective, context,
+                  fmt::format("session {}", support.session));
+}
+
+torch::Tensor OrcoMethod::embed(const torch::Tensor& features) {
+  torch::NoGradGuard no_grad;
+  return project(embed_in_batches(encoder_, features));
+}
+
+torch::Tensor OrcoMethod::classify(const torch::Tensor& embeddings) {
+  torch::NoGradGuard no_grad;
+  return embeddings.matmul(seen_targets().t());
+}
+
+std::unique_ptr<Method> make_orco_method(const ParameterSet& params) { return std::make_unique<OrcoMethod>(params); }
+
+}  // namespace fscil

@@ -1,0 +1,68 @@
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "methods/common/parameter_snapshot.h"
+#include "methods/common/resnet18.h"
+#include "methods/method.h"
+#include "methods/orco/orco_settings.h"
+#include "methods/orco/projector.h"
+#include "methods/orco/replay_memory.h"
+
+namespace fscil {
+
+// OrCo-style baseline (CVPR 2024, noorahmedds/OrCo): pseudo-targets spread over the projection
+// sphere, classes Hungarian-assigned to them, a projector trained towards them with supervised
+// contrastive, orthogonality and cross-entropy losses, and a replay memory of real old samples.
+// The encoder is frozen after phase 1; only the projector learns afterwards.
+class OrcoMethod : public Method {
+ public:
+  explicit OrcoMethod(const ParameterSet& params);
+  void train_base(const SessionData& base, RunContext& context) override;
+  void learn_session(const SessionData& support, RunContext& context) override;
+  torch::Tensor embed(const torch::Tensor& features) override;
+  torch::Tensor classify(const torch::Tensor& embeddings) override;
+  ReplayFootprint replay_footprint() const override { return {memory_.samples(), memory_.bytes()}; }
+
+  const ReplayMemory& replay_memory() const { return memory_; }
+  Projector& projector() { return projector_; }
+  const ParameterSnapshot& phase_two_projector() const { return phase_two_projector_; }
+  const torch::Tensor& targets() const { return targets_; }
+  // Target row of each seen class, in class order.
+  const std::vector<std::int64_t>& class_targets() const { return class_targets_; }
+
+ private:
+  // What the projector's loss sees besides the batch: targets of the seen classes, the targets
+  // to perturb into the contrastive batch, and which classes the cross-entropy covers.
+  struct ProjectorObjective {
+    torch::Tensor perturbed_targets, perturbed_labels;
+    std::int64_t cross_entropy_from_class = 0;
+    double cross_entropy_weight = 1.0;
+  };
+
+  void pretrain(const SessionData& base, RunContext& context);
+  // V masked views of every sample through the frozen encoder: N x V x D.
+  torch::Tensor encoded_views(const torch::Tensor& features, RunContext& context);
+  torch::Tensor project(const torch::Tensor& encodings);
+  void assign_classes(const torch::Tensor& features, const torch::Tensor& labels,
+                      const std::vector<std::int64_t>& classes);
+  std::vector<std::int64_t> free_target_rows() const;
+  torch::Tensor seen_targets() const;
+  torch::Tensor unassigned_targets() const;
+  void train_projector(const torch::Tensor& views, const torch::Tensor& labels, const ProjectorSchedule& schedule,
+                       const ProjectorObjective& objective, RunContext& context, const std::string& phase);
+
+  OrcoSettings settings_;
+  ResNet18Encoder encoder_{nullptr};
+  Projector projector_{nullptr};
+  ParameterSnapshot phase_two_projector_;
+  torch::Tensor targets_;                     // every class of the protocol gets one row
+  std::vector<std::int64_t> class_targets_;   // target row of class c
+  std::vector<bool> target_taken_;
+  std::int64_t base_classes_ = 0;
+  ReplayMemory memory_;
+};
+
+std::unique_ptr<Method> make_orco_method(const ParameterSet& params);
+
+}  // namespace fscil

@@ -1,0 +1,48 @@
+#pragma once
+#include <cstdint>
+
+#include "methods/common/supervised_training.h"
+
+namespace fscil {
+
+class ParameterSet;
+
+// Projector training of phase 2 or of an incremental session: SGD with momentum and a cosine
+// decay of the learning rate to `final_rate` over the epochs, as the reference's schedules.
+struct ProjectorSchedule {
+  int epochs = 10;
+  double learning_rate = 0.25;
+  double final_rate = 1e-5;
+  double weight_decay = 5e-4;
+  double momentum = 0.9;
+  double dampening = 0.9;  // the reference's SGD damps momentum too
+  int batch_size = 128;
+};
+
+// OrCo's hyper-parameters as named options. Defaults are the reference code's best configs
+// (noorahmedds/OrCo) unless docs/methods.md marks them as ours.
+struct OrcoSettings {
+  SupervisedSchedule pretrain;  // phase 1: the shared pretraining schedule (pretrain_epochs, ...)
+  double temperature = 16.0;    // phase 1 cosine classifier on encoder embeddings (ours)
+
+  std::int64_t projector_hidden = 2048;
+  std::int64_t projection_size = 128;
+  int target_steps = 1000;
+  double target_lr = 1.0;
+  double supcon_temperature = 0.07;
+  double perturb_epsilon = 9e-5;
+  double perturb_offset = 0.5;
+
+  ProjectorSchedule base;                                 // phase 2: 10 epochs, lr 0.25, wd 5e-4
+  ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64};  // sessions: 100 epochs, lr 0.1, wd 1e-4
+  double novel_ce_weight = 0.5;
+
+  int exemplars_per_base_class = 5;
+  int views = 4;                  // cached masked views per sample (ours)
+  double mask_time_fraction = 0.2;  // widest time mask, share of the frames (ours)
+  double mask_mel_fraction = 0.2;   // widest Mel mask, share of the bins (ours)
+
+  static OrcoSettings from(const ParameterSet& params);
+};
+
+}  // namespace fscil

@@ -1,0 +1,107 @@
+#include "reports/cost_table.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace fscil {
+
+namespace {
+
+constexpr double kMebibyte = 1024.0 * 1024.0;
+
+CostRow& row_for(std::vector<CostRow>& rows, const RunRecord& record) {
+  for (auto& row : rows) {
+    if (row.method == record.method && row.dataset == record.dataset) return row;
+  }
+  rows.push_back(CostRow{record.method, record.dataset});
+  return rows.back();
+}
+
+struct Column {
+  const char* csv;
+  const char* title;
+  std::string (*text)(const CostRow&);
+};
+
+const std::vector<Column>& columns() {
+  static const std::vector<Column> table = {
+      {"base_train_s", "base training (s)", [](const CostRow& r) { return fmt::format("{:.1f}", r.base_train_seconds); }},
+      {"update_s", "update per session (s)", [](const CostRow& r) { return fmt::format("{:.2f}", r.update_seconds); }},
+      {"peak_rss_mib", "peak memory (MiB)", [](const CostRow& r) { return fmt::format("{:.0f}", r.peak_resident_mib); }},
+      {"replay_samples", "replay samples", [](const CostRow& r) { return fmt::format("{}", r.replay_samples); }},
+      {"replay_mib", "replay memory (MiB)", [](const CostRow& r) { return fmt::format("{:.2f}", r.replay_mib); }},
+  };
+  return table;
+}
+
+}  // namespace
+
+std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
+  std::vector<CostRow> rows;
+  std::vector<std::size_t> update_counts;
+  for (const auto& record : records) {
+    CostRow& row = row_for(rows, record);
+    const auto index = static_cast<std::size_t>(&row - rows.data());
+    update_counts.resize(rows.size(), 0);
+    ++row.runs;
+    for (const auto& session : record.sessions) {
+      if (session.session == 0) {
+        row.base_train_seconds += session.train_seconds;
+      } else {
+        row.update_seconds += session.train_seconds;
+        ++update_counts[index];
+      }
+    }
+    row.peak_resident_mib = std::max(row.peak_resident_mib, static_cast<double>(record.peak_resident_bytes) / kMebibyte);
+    row.replay_samples = std::max(row.replay_samples, record.replay_samples);
+    row.replay_mib = std::max(row.replay_mib, static_cast<double>(record.replay_bytes) / kMebibyte);
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rows[i].base_train_seconds /= static_cast<double>(rows[i].runs);
+    if (update_counts[i] > 0) rows[i].update_seconds /= static_cast<double>(update_counts[i]);
+  }
+  return rows;
+}
+
+std::string render_cost_csv(const std::vector<CostRow>& rows) {
+  std::string out = "method,dataset,runs";
+  for (const auto& column : columns()) out += fmt::format(",{}", column.csv);
+  out += "\n";
+  for (const auto& row : rows) {
+    out += fmt::format("{},{},{}", row.method, row.dataset, row.runs);
+    for (const auto& column : columns()) out += "," + column.text(row);
+    out += "\n";
+  }
+  return out;
+}
+
+std::string render_cost_latex(const std::vector<CostRow>& rows) {
+  std::string out = "% fscil-bench costs; requires \\usepackage{booktabs}\n\\begin{table}[!t]\n\\centering\n"
+                    "\\caption{Cost of each method (means over seeds; memory: largest).}\n";
+  out += fmt::format("\\begin{{tabular}}{{ll{}}}\n\\toprule\nMethod & Dataset", std::string(columns().size(), 'r'));
+  for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
+  out += " \\\\\n\\midrule\n";
+  for (const auto& row : rows) {
+    out += fmt::format("{} & {}", row.method, row.dataset);
+    for (const auto& column : columns()) out += " & " + column.text(row);
+    out += " \\\\\n";
+  }
+  return out + "\\bottomrule\n\\end{tabular}\n\\end{table}\n";
+}
+
+std::string render_cost_markdown(const std::vector<CostRow>& rows) {
+  std::string out = "### costs (means over seeds; memory: largest)\n\n| method | dataset |";
+  for (const auto& column : columns()) out += fmt::format(" {} |", column.title);
+  out += "\n|---|---|";
+  for (std::size_t c = 0; c < columns().size(); ++c) out += "---:|";
+  out += "\n";
+  for (const auto& row : rows) {
+    out += fmt::format("| {} | {} |", row.method, row.dataset);
+    for (const auto& column : columns()) out += fmt::format(" {} |", column.text(row));
+    out += "\n";
+  }
+  return out;
+}
+
+}  // namespace fscil

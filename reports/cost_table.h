@@ -1,0 +1,31 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "reports/run_record.h"
+
+namespace fscil {
+
+// What one (method, dataset) costs, over its seeds: time to train on the base session, time per
+// incremental session (prototype update and fine-tuning), peak resident memory and the replay
+// memory the method keeps of real old samples.
+struct CostRow {
+  std::string method;
+  std::string dataset;
+  std::size_t runs = 0;
+  double base_train_seconds = 0;    // mean over seeds
+  double update_seconds = 0;        // mean over seeds and incremental sessions
+  double peak_resident_mib = 0;     // largest over seeds
+  std::int64_t replay_samples = 0;  // after the last session; largest over seeds
+  double replay_mib = 0;
+};
+
+// Rows in order of first appearance of (method, dataset).
+std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records);
+
+std::string render_cost_csv(const std::vector<CostRow>& rows);
+std::string render_cost_latex(const std::vector<CostRow>& rows);
+std::string render_cost_markdown(const std::vector<CostRow>& rows);
+
+}  // namespace fscil

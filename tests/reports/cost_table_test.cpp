@@ -1,0 +1,49 @@
+#include "reports/cost_table.h"
+
+#include <gtest/gtest.h>
+
+namespace fscil {
+namespace {
+
+// A run whose base session took `base` seconds and each of its two sessions `update`.
+RunRecord timed_run(const std::string& method, double base, double update, std::int64_t peak_mib,
+                    std::int64_t replay_samples) {
+  RunRecord record;
+  record.method = method;
+  record.dataset = "simtex";
+  for (int s = 0; s < 3; ++s) {
+    SessionRecord session;
+    session.session = s;
+    session.train_seconds = s == 0 ? base : update;
+    record.sessions.push_back(session);
+  }
+  record.peak_resident_bytes = peak_mib * 1024 * 1024;
+  record.replay_samples = replay_samples;
+  record.replay_bytes = replay_samples * 1024 * 256;  // a quarter MiB per sample
+  return record;
+}
+
+TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
+  const std::vector<RunRecord> records = {timed_run("orco", 100, 2, 900, 400), timed_run("prototype", 50, 0, 700, 0),
+                                          timed_run("orco", 120, 4, 950, 400)};
+  const auto rows = summarize_costs(records);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].method, "orco");
+  EXPECT_EQ(rows[0].runs, 2u);
+  EXPECT_DOUBLE_EQ(rows[0].base_train_seconds, 110);
+  EXPECT_DOUBLE_EQ(rows[0].update_seconds, 3);  // (2 + 2 + 4 + 4) / 4 sessions
+  EXPECT_DOUBLE_EQ(rows[0].peak_resident_mib, 950);
+  EXPECT_EQ(rows[0].replay_samples, 400);
+  EXPECT_DOUBLE_EQ(rows[0].replay_mib, 100);
+  EXPECT_EQ(rows[1].replay_samples, 0);
+
+  EXPECT_EQ(render_cost_csv(rows),
+            "method,dataset,runs,base_train_s,update_s,peak_rss_mib,replay_samples,replay_mib\n"
+            "orco,simtex,2,110.0,3.00,950,400,100.00\n"
+            "prototype,simtex,1,50.0,0.00,700,0,0.00\n");
+  EXPECT_NE(render_cost_markdown(rows).find("| orco | simtex | 110.0 | 3.00 | 950 | 400 | 100.00 |"), std::string::npos);
+  EXPECT_NE(render_cost_latex(rows).find("orco & simtex & 110.0 & 3.00 & 950 & 400 & 100.00 \\\\"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fscil
