@@ -10,12 +10,13 @@ namespace {
 
 constexpr double kMebibyte = 1024.0 * 1024.0;
 
-CostRow& row_for(std::vector<CostRow>& rows, const RunRecord& record) {
-  for (auto& row : rows) {
-    if (row.method == record.method && row.dataset == record.dataset) return row;
+// Index of the row of (method, dataset), appended when new.
+std::size_t row_index(std::vector<CostRow>& rows, const RunRecord& record) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (rows[i].method == record.method && rows[i].dataset == record.dataset) return i;
   }
   rows.push_back(CostRow{record.method, record.dataset});
-  return rows.back();
+  return rows.size() - 1;
 }
 
 struct Column {
@@ -41,9 +42,9 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
   std::vector<CostRow> rows;
   std::vector<std::size_t> update_counts;
   for (const auto& record : records) {
-    CostRow& row = row_for(rows, record);
-    const auto index = static_cast<std::size_t>(&row - rows.data());
+    const std::size_t index = row_index(rows, record);
     update_counts.resize(rows.size(), 0);
+    CostRow& row = rows[index];
     ++row.runs;
     for (const auto& session : record.sessions) {
       if (session.session == 0) {

@@ -77,7 +77,7 @@ void OrcoMethod::pretrain(const SessionData& base, RunContext& context) {
          masked_view(features, settings_.mask_time_fraction, settings_.mask_mel_fraction, context.generator)});
     const torch::Tensor encodings = encoder_->forward(both);
     const std::int64_t n = features.size(0);
-    const torch::Tensor projections = unit_rows(projector_->forward(encodings)).view({2, n, -1}).transpose(0, 1);
+    const torch::Tensor projections = project(encodings).view({2, n, -1}).transpose(0, 1);
     return F::cross_entropy(classifier->forward(encodings, base_classes_), labels.repeat({2})) +
            supervised_contrastive_loss(projections, labels, settings_.supcon_temperature);
   };
