@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "metrics/model_cost.h"
 #include "protocols/parameter_set.h"
 #include "protocols/progress_reporter.h"
 
@@ -59,6 +60,9 @@ class Method {
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
   virtual ReplayFootprint replay_footprint() const { return {}; }
+  // Inference cost of one sample through embed() and classify() as the model stands now,
+  // counted by walking the method's modules (rules in metrics/model_cost.h).
+  virtual ModelCost inference_cost(const InputShape& input) const = 0;
 
   torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }
   // Top-1 accuracy in percent on labelled data (the base validation split, for progress notes).

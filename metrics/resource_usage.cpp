@@ -2,12 +2,26 @@
 
 #include <sys/resource.h>
 
+#include <fstream>
+#include <string>
+
 namespace fscil {
 
 std::int64_t peak_resident_bytes() {
+  // VmHWM is the peak that clear_refs resets; ru_maxrss never resets.
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6)) * 1024;  // reported in kB
+  }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
+}
+
+void reset_peak_resident() {
+  std::ofstream clear_refs("/proc/self/clear_refs");
+  clear_refs << "5";
 }
 
 }  // namespace fscil

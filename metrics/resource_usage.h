@@ -4,8 +4,12 @@
 
 namespace fscil {
 
-// Peak resident set size of this process so far, in bytes.
+// Peak resident set size of this process since the last reset_peak_resident() (or its start),
+// in bytes.
 std::int64_t peak_resident_bytes();
+// Starts a new peak from the current resident size, so each run of a multi-run process reports
+// its own peak. Without Linux's clear_refs the peak stays process-wide.
+void reset_peak_resident();
 
 class Stopwatch {
  public:

@@ -163,4 +163,21 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   return outcomes;
 }
 
+InferenceTiming time_inference(Method& method, const PreparedDataset& dataset, const SessionSchedule& schedule,
+                               std::int64_t batch, int repeats) {
+  const std::vector<std::int64_t> first(schedule.test.begin(),
+                                        schedule.test.begin() + std::min<std::int64_t>(batch, schedule.test.size()));
+  const torch::Tensor features =
+      rows_of(dataset.features, torch::tensor(first, torch::kLong), dataset.description.channel_repeat).contiguous();
+  method.logits(features);
+  std::vector<double> seconds;
+  for (int r = 0; r < repeats; ++r) {
+    Stopwatch clock;
+    method.logits(features);
+    seconds.push_back(clock.seconds());
+  }
+  std::nth_element(seconds.begin(), seconds.begin() + repeats / 2, seconds.end());
+  return {seconds[repeats / 2] / static_cast<double>(first.size()), static_cast<std::int64_t>(first.size())};
+}
+
 }  // namespace fscil

@@ -19,4 +19,14 @@ InputShape input_shape_of(const PreparedDataset& dataset);
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context);
 
+struct InferenceTiming {
+  double seconds_per_sample = 0;
+  std::int64_t batch = 0;
+};
+// Inference time per sample (IT) of the method as it stands: the median of `repeats` timed passes
+// of one batch of up to `batch` test samples through embed() and classify(), after one untimed
+// warm-up pass.
+InferenceTiming time_inference(Method& method, const PreparedDataset& dataset, const SessionSchedule& schedule,
+                               std::int64_t batch = 128, int repeats = 7);
+
 }  // namespace fscil

@@ -27,6 +27,10 @@ struct Column {
 
 const std::vector<Column>& columns() {
   static const std::vector<Column> table = {
+      {"mflops", "MFLOPs", [](const CostRow& r) { return fmt::format("{:.1f}", r.mega_flops); }},
+      {"params_m", "NP (M)", [](const CostRow& r) { return fmt::format("{:.3f}", r.parameters_millions); }},
+      {"session_trainable_m", "trained in sessions (M)", [](const CostRow& r) { return fmt::format("{:.3f}", r.trainable_millions); }},
+      {"it_ms", "IT (ms/sample)", [](const CostRow& r) { return fmt::format("{:.3f}", r.inference_ms_per_sample); }},
       {"base_train_s", "base training (s)", [](const CostRow& r) { return fmt::format("{:.1f}", r.base_train_seconds); }},
       {"update_s", "update per session (s)", [](const CostRow& r) { return fmt::format("{:.2f}", r.update_seconds); }},
       {"peak_rss_mib", "peak memory (MiB)", [](const CostRow& r) { return fmt::format("{:.0f}", r.peak_resident_mib); }},
@@ -46,6 +50,11 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
     update_counts.resize(rows.size(), 0);
     CostRow& row = rows[index];
     ++row.runs;
+    row.mega_flops = std::max(row.mega_flops, 2.0 * static_cast<double>(record.inference.macs) / 1e6);
+    row.parameters_millions = std::max(row.parameters_millions, static_cast<double>(record.inference.parameters) / 1e6);
+    row.trainable_millions =
+        std::max(row.trainable_millions, static_cast<double>(record.inference.trainable_parameters) / 1e6);
+    row.inference_ms_per_sample += 1e3 * record.inference.seconds_per_sample;
     for (const auto& session : record.sessions) {
       if (session.session == 0) {
         row.base_train_seconds += session.train_seconds;
@@ -60,6 +69,7 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     rows[i].base_train_seconds /= static_cast<double>(rows[i].runs);
+    rows[i].inference_ms_per_sample /= static_cast<double>(rows[i].runs);
     if (update_counts[i] > 0) rows[i].update_seconds /= static_cast<double>(update_counts[i]);
   }
   return rows;
@@ -79,7 +89,8 @@ std::string render_cost_csv(const std::vector<CostRow>& rows) {
 
 std::string render_cost_latex(const std::vector<CostRow>& rows) {
   std::string out = "% fscil-bench costs; requires \\usepackage{booktabs}\n\\begin{table}[!t]\n\\centering\n"
-                    "\\caption{Cost of each method (means over seeds; memory: largest).}\n";
+                    "\\caption{Cost of each method: FLOPs = 2 $\\times$ MACs per sample at inference, NP = parameters, IT = "
+                    "inference time per sample (times: means over seeds; memory: largest).}\n";
   out += fmt::format("\\begin{{tabular}}{{ll{}}}\n\\toprule\nMethod & Dataset", std::string(columns().size(), 'r'));
   for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
   out += " \\\\\n\\midrule\n";

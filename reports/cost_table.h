@@ -7,13 +7,18 @@
 
 namespace fscil {
 
-// What one (method, dataset) costs, over its seeds: time to train on the base session, time per
+// What one (method, dataset) costs, over its seeds: inference FLOPs and parameters (NP) of the
+// final model, inference time per sample (IT), time to train on the base session, time per
 // incremental session (prototype update and fine-tuning), peak resident memory and the replay
 // memory the method keeps of real old samples.
 struct CostRow {
   std::string method;
   std::string dataset;
   std::size_t runs = 0;
+  double mega_flops = 0;              // per sample, 2 x MACs; largest over seeds
+  double parameters_millions = 0;     // all parameters; largest over seeds
+  double trainable_millions = 0;     // still trained in incremental sessions
+  double inference_ms_per_sample = 0;  // mean over seeds
   double base_train_seconds = 0;    // mean over seeds
   double update_seconds = 0;        // mean over seeds and incremental sessions
   double peak_resident_mib = 0;     // largest over seeds

@@ -70,7 +70,14 @@ std::string to_json_text(const RunRecord& record) {
                          {"sessions", sessions},
                          {"total_seconds", record.total_seconds},
                          {"peak_resident_bytes", record.peak_resident_bytes},
-                         {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}}};
+                         {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}},
+                         {"inference",
+                          {{"macs", record.inference.macs},
+                           {"flops", 2 * record.inference.macs},
+                           {"parameters", record.inference.parameters},
+                           {"trainable_parameters", record.inference.trainable_parameters},
+                           {"seconds_per_sample", record.inference.seconds_per_sample},
+                           {"batch", record.inference.batch}}}};
   return document.dump(2) + "\n";
 }
 
@@ -97,6 +104,14 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     if (document.contains("replay")) {
       record.replay_samples = document.at("replay").at("samples").get<std::int64_t>();
       record.replay_bytes = document.at("replay").at("bytes").get<std::int64_t>();
+    }
+    if (document.contains("inference")) {
+      const json& inference = document.at("inference");
+      record.inference.macs = inference.at("macs").get<std::int64_t>();
+      record.inference.parameters = inference.at("parameters").get<std::int64_t>();
+      record.inference.trainable_parameters = inference.at("trainable_parameters").get<std::int64_t>();
+      record.inference.seconds_per_sample = inference.at("seconds_per_sample").get<double>();
+      record.inference.batch = inference.at("batch").get<std::int64_t>();
     }
     for (const auto& s : document.at("sessions")) {
       SessionRecord session;

@@ -21,6 +21,16 @@ struct SessionRecord {
   double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
 };
 
+// The trained model's inference cost per sample, after the last session (rules in
+// metrics/model_cost.h) and its measured inference time (IT).
+struct InferenceRecord {
+  std::int64_t macs = 0;
+  std::int64_t parameters = 0;
+  std::int64_t trainable_parameters = 0;
+  double seconds_per_sample = 0;  // median over repeated batches of `batch` test samples
+  std::int64_t batch = 0;
+};
+
 // Everything one (method, dataset, seed) run produced: the schema of result files, from
 // which every report can be rebuilt.
 struct RunRecord {
@@ -35,7 +45,8 @@ struct RunRecord {
   std::string dataset_key;  // cache key: which exact data was used
   std::vector<SessionRecord> sessions;
   double total_seconds = 0;
-  std::int64_t peak_resident_bytes = 0;
+  std::int64_t peak_resident_bytes = 0;  // this run's peak, dataset included
+  InferenceRecord inference;  // all zero in files written before costs were counted
   // Real old samples the method stores after its last session (OrCo's trade-off); 0 for none.
   std::int64_t replay_samples = 0;
   std::int64_t replay_bytes = 0;

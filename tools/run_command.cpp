@@ -118,8 +118,11 @@ void run_benchmark(const RunOptions& options) {
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);
       context.progress = &progress;
+      reset_peak_resident();
       Stopwatch run_clock;
       const auto outcomes = run_sessions(*method, dataset, schedules[s], context);
+      const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
+      const ModelCost cost = method->inference_cost(input);
 
       RunRecord record;
       record.method = method_names[m];
@@ -139,6 +142,8 @@ void run_benchmark(const RunOptions& options) {
       }
       record.total_seconds = run_clock.seconds();
       record.peak_resident_bytes = peak_resident_bytes();
+      record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
+                          timing.batch};
       const ReplayFootprint replay = method->replay_footprint();
       record.replay_samples = replay.samples;
       record.replay_bytes = replay.bytes;

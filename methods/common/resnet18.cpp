@@ -1,5 +1,9 @@
 #include "methods/common/resnet18.h"
 
+#include <fmt/format.h>
+
+#include "methods/common/module_cost.h"
+
 namespace fscil {
 
 namespace nn = torch::nn;
@@ -25,6 +29,18 @@ torch::Tensor BasicBlockImpl::forward(const torch::Tensor& x) {
   out = bn2(conv2(out));
   out += downsample ? downsample->forward(x) : x;
   return torch::relu(out);
+}
+
+MapShape BasicBlockImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
+  MapShape out = count_conv2d(cost, name + ".conv1", *conv1, input);
+  count_batch_norm(cost, name + ".bn1", *bn1, out);
+  out = count_conv2d(cost, name + ".conv2", *conv2, out);
+  count_batch_norm(cost, name + ".bn2", *bn2, out);
+  if (downsample) {
+    const MapShape shortcut = count_conv2d(cost, name + ".downsample.0", *downsample->ptr(0)->as<torch::nn::Conv2d>(), input);
+    count_batch_norm(cost, name + ".downsample.1", *downsample->ptr(1)->as<torch::nn::BatchNorm2d>(), shortcut);
+  }
+  return out;
 }
 
 ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
@@ -57,6 +73,19 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x) {
   out = torch::max_pool2d(out, 3, 2, 1);
   out = stages->forward(out);
   return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);
+}
+
+void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
+  count_batch_norm(cost, name + ".bn0", *input_norm, input);
+  MapShape out = count_conv2d(cost, name + ".conv1", *stem, input);
+  count_batch_norm(cost, name + ".bn1", *stem_norm, out);
+  const MapShape pooled = window_output(out, out.channels, 3, 3, 2, 1);  // the max_pool2d of forward()
+  cost.add({name + ".maxpool", "pool", max_pool_macs(pooled, 3)});
+  out = pooled;
+  for (std::size_t block = 0; block < stages->size(); ++block) {
+    out = stages->ptr(block)->as<BasicBlock>()->count_cost(cost, fmt::format("{}.stages.{}", name, block), out);
+  }
+  cost.add({name + ".avgpool", "pool", global_average_pool_macs(out)});
 }
 
 }  // namespace fscil

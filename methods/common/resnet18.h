@@ -3,6 +3,9 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
+
+#include "metrics/model_cost.h"
 
 namespace fscil {
 
@@ -16,6 +19,8 @@ class BasicBlockImpl : public torch::nn::Module {
  public:
   BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride);
   torch::Tensor forward(const torch::Tensor& x);
+  // Adds this block's inference cost for one sample; returns its output shape.
+  MapShape count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;
 
  private:
   torch::nn::Conv2d conv1{nullptr}, conv2{nullptr};
@@ -31,6 +36,8 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   explicit ResNet18EncoderImpl(const ResNet18Options& options);
   torch::Tensor forward(const torch::Tensor& x);
   std::int64_t embedding_size() const { return embedding_size_; }
+  // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
+  void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};

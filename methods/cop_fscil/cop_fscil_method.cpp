@@ -128,6 +128,13 @@ torch::Tensor CopFscilMethod::probe_embeddings(const torch::Tensor& features, in
   return torch::cat(parts);
 }
 
+ModelCost CopFscilMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost = PitsScMethod::inference_cost(input);
+  if (components_.pcqa) adapter_->count_cost(cost, "adapter");
+  cost.freeze("adapter");  // as in PITS-SC, sessions fine-tune the classifier only
+  return cost;
+}
+
 void CopFscilMethod::learn_session(const SessionData& support, RunContext& context) {
   if (!components_.pspc) {
     PitsScMethod::learn_session(support, context);

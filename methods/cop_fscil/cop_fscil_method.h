@@ -20,6 +20,7 @@ class CopFscilMethod : public PitsScMethod {
   CopFscilMethod(const ParameterSet& params, CopFscilComponents components);
   void learn_session(const SessionData& support, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
+  ModelCost inference_cost(const InputShape& input) const override;
 
   // For tests.
   const CopFscilComponents& components() const { return components_; }

@@ -1,5 +1,7 @@
 #include "methods/cop_fscil/quotient_adapter.h"
 
+#include "methods/common/module_cost.h"
+
 namespace fscil {
 
 namespace {
@@ -43,6 +45,12 @@ QuotientAdapterImpl::Projection QuotientAdapterImpl::project(const torch::Tensor
       {projection.invariant, torch::zeros({z.size(0), options_.dim - options_.invariant_dim}, z.options())}, 1);
   projection.quotient = apply_q_transpose(reflections, kept);
   return projection;
+}
+
+void QuotientAdapterImpl::count_cost(ModelCost& cost, const std::string& name) const {
+  count_linear(cost, name + ".hidden", *hidden_);
+  count_linear(cost, name + ".output", *output_);
+  cost.add({name + ".reflections", "reflections", reflections_macs(options_.dim, 2 * options_.reflections)});
 }
 
 torch::Tensor probe_invariance_loss(const torch::Tensor& original_invariant, const torch::Tensor& probe_invariants) {

@@ -2,6 +2,9 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <string>
+
+#include "metrics/model_cost.h"
 
 namespace fscil {
 
@@ -34,6 +37,8 @@ class QuotientAdapterImpl : public torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& z) { return project(reflections_of(z), z).quotient; }
 
   const QuotientAdapterOptions& options() const { return options_; }
+  // Adds forward()'s cost for one embedding: the observation network, then Q and Q^T.
+  void count_cost(ModelCost& cost, const std::string& name) const;
 
  private:
   QuotientAdapterOptions options_;

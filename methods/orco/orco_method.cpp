@@ -220,6 +220,16 @@ torch::Tensor OrcoMethod::classify(const torch::Tensor& embeddings) {
   return embeddings.matmul(seen_targets().t());
 }
 
+ModelCost OrcoMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost;
+  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  const std::int64_t projection = projector_->count_cost(cost, "projector");
+  // Logits are dot products with fixed unit targets: no learnt parameters.
+  count_cosine_classifier(cost, "targets", projection, static_cast<std::int64_t>(class_targets_.size()), {});
+  cost.freeze("encoder");  // sessions retrain the projector only
+  return cost;
+}
+
 std::unique_ptr<Method> make_orco_method(const ParameterSet& params) { return std::make_unique<OrcoMethod>(params); }
 
 }  // namespace fscil

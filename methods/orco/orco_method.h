@@ -22,6 +22,7 @@ class OrcoMethod : public Method {
   void learn_session(const SessionData& support, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
+  ModelCost inference_cost(const InputShape& input) const override;
   ReplayFootprint replay_footprint() const override { return {memory_.samples(), memory_.bytes()}; }
 
   const ReplayMemory& replay_memory() const { return memory_; }

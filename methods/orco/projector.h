@@ -1,4 +1,7 @@
 #pragma once
+#include <string>
+
+#include "methods/common/module_cost.h"
 #include <torch/torch.h>
 
 #include <cstdint>
@@ -12,6 +15,11 @@ class ProjectorImpl : public torch::nn::Module {
       : hidden(register_module("hidden", torch::nn::Linear(input_size, hidden_size))),
         output(register_module("output", torch::nn::Linear(hidden_size, output_size))) {}
   torch::Tensor forward(const torch::Tensor& x) { return output->forward(torch::relu(hidden->forward(x))); }
+  // Returns the output size.
+  std::int64_t count_cost(ModelCost& cost, const std::string& name) const {
+    count_linear(cost, name + ".hidden", *hidden);
+    return count_linear(cost, name + ".output", *output);
+  }
 
  private:
   torch::nn::Linear hidden, output;

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "methods/common/embedding.h"
+#include "methods/common/module_cost.h"
 #include "methods/common/mixing.h"
 #include "methods/common/supervised_training.h"
 #include "methods/pits_sc/pseudo_incremental.h"
@@ -130,6 +131,15 @@ torch::Tensor PitsScMethod::embed(const torch::Tensor& features) { return embed_
 torch::Tensor PitsScMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
   return classifier_->forward(embeddings, seen_classes_, false);
+}
+
+ModelCost PitsScMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost;
+  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  // Inference uses mu only; sigma is still a parameter the model holds.
+  count_cosine_classifier(cost, "classifier", encoder_->embedding_size(), seen_classes_, classifier_->parameters());
+  cost.freeze("encoder");  // sessions fine-tune the classifier only
+  return cost;
 }
 
 std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params) {

@@ -21,6 +21,7 @@ class PitsScMethod : public Method {
   void learn_session(const SessionData& support, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
+  ModelCost inference_cost(const InputShape& input) const override;
 
   // For tests: the modules as they stand.
   ResNet18Encoder& encoder() { return encoder_; }

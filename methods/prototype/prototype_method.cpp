@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "methods/common/embedding.h"
+#include "methods/common/module_cost.h"
 
 namespace fscil {
 
@@ -38,6 +39,14 @@ torch::Tensor PrototypeMethod::embed(const torch::Tensor& features) { return emb
 torch::Tensor PrototypeMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
   return classifier_->forward(embeddings, seen_classes_);
+}
+
+ModelCost PrototypeMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost;
+  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  count_cosine_classifier(cost, "classifier", encoder_->embedding_size(), seen_classes_, classifier_->parameters());
+  cost.freeze("");  // sessions only append mean embeddings
+  return cost;
 }
 
 std::unique_ptr<Method> make_prototype_method(const ParameterSet& params) {

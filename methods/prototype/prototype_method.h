@@ -17,6 +17,7 @@ class PrototypeMethod : public Method {
   void learn_session(const SessionData& support, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
+  ModelCost inference_cost(const InputShape& input) const override;
 
  private:
   void add_prototypes(const SessionData& data);

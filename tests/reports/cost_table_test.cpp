@@ -20,6 +20,10 @@ RunRecord timed_run(const std::string& method, double base, double update, std::
   record.peak_resident_bytes = peak_mib * 1024 * 1024;
   record.replay_samples = replay_samples;
   record.replay_bytes = replay_samples * 1024 * 256;  // a quarter MiB per sample
+  record.inference.macs = 27'200'000;
+  record.inference.parameters = 2'500'000;
+  record.inference.trainable_parameters = 500'000;
+  record.inference.seconds_per_sample = base / 1e5;
   return record;
 }
 
@@ -36,13 +40,20 @@ TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
   EXPECT_EQ(rows[0].replay_samples, 400);
   EXPECT_DOUBLE_EQ(rows[0].replay_mib, 100);
   EXPECT_EQ(rows[1].replay_samples, 0);
+  EXPECT_DOUBLE_EQ(rows[0].mega_flops, 54.4);  // 2 x 27.2 M MACs
+  EXPECT_DOUBLE_EQ(rows[0].parameters_millions, 2.5);
+  EXPECT_DOUBLE_EQ(rows[0].trainable_millions, 0.5);
+  EXPECT_DOUBLE_EQ(rows[0].inference_ms_per_sample, 1.1);  // (1.0 + 1.2) / 2 ms
 
   EXPECT_EQ(render_cost_csv(rows),
-            "method,dataset,runs,base_train_s,update_s,peak_rss_mib,replay_samples,replay_mib\n"
-            "orco,simtex,2,110.0,3.00,950,400,100.00\n"
-            "prototype,simtex,1,50.0,0.00,700,0,0.00\n");
-  EXPECT_NE(render_cost_markdown(rows).find("| orco | simtex | 110.0 | 3.00 | 950 | 400 | 100.00 |"), std::string::npos);
-  EXPECT_NE(render_cost_latex(rows).find("orco & simtex & 110.0 & 3.00 & 950 & 400 & 100.00 \\\\"), std::string::npos);
+            "method,dataset,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,peak_rss_mib,replay_samples,"
+            "replay_mib\n"
+            "orco,simtex,2,54.4,2.500,0.500,1.100,110.0,3.00,950,400,100.00\n"
+            "prototype,simtex,1,54.4,2.500,0.500,0.500,50.0,0.00,700,0,0.00\n");
+  EXPECT_NE(render_cost_markdown(rows).find("| orco | simtex | 54.4 | 2.500 | 0.500 | 1.100 | 110.0 | 3.00 | 950 | 400 | 100.00 |"),
+            std::string::npos);
+  EXPECT_NE(render_cost_latex(rows).find("orco & simtex & 54.4 & 2.500 & 0.500 & 1.100 & 110.0 & 3.00 & 950 & 400 & 100.00 \\\\"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -56,6 +56,17 @@ TEST(RunRecord, RoundTripsThroughJson) {
   const RunRecord replay_copy = run_record_from_json_text(to_json_text(replaying), "memory");
   EXPECT_EQ(replay_copy.replay_samples, 400);
   EXPECT_EQ(replay_copy.replay_bytes, 400 * 7680 * 4);
+
+  RunRecord costed = original;
+  costed.inference = {54'527'488, 5'216'576, 2'560, 2.5e-4, 128};
+  const std::string costed_text = to_json_text(costed);
+  EXPECT_NE(costed_text.find("\"flops\": 109054976"), std::string::npos);
+  const RunRecord costed_copy = run_record_from_json_text(costed_text, "memory");
+  EXPECT_EQ(costed_copy.inference.macs, 54'527'488);
+  EXPECT_EQ(costed_copy.inference.parameters, 5'216'576);
+  EXPECT_EQ(costed_copy.inference.trainable_parameters, 2'560);
+  EXPECT_DOUBLE_EQ(costed_copy.inference.seconds_per_sample, 2.5e-4);
+  EXPECT_EQ(costed_copy.inference.batch, 128);
   EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
 }
 
