@@ -31,12 +31,15 @@ class LogMelExtractor {
                     int threads = 0) const;
 
  private:
-  void extract_range(const float* signals, std::int64_t first, std::int64_t last,
-                     std::int64_t length, float* out) const;
+  void extract_range(const float* signals, std::int64_t first, std::int64_t last, std::int64_t length,
+                     float* out) const;
 
   LogMelSettings settings_;
   MelFilterbank filterbank_;
   std::vector<float> window_;
+  // Filter m's non-zero weights, bins first_bin[m] .. end_bin[m] - 1, from filter_offset_[m].
+  std::vector<float> filter_weights_;
+  std::vector<std::size_t> filter_offset_;
   struct Plan;
   std::unique_ptr<Plan> plan_;
 };
