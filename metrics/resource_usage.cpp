@@ -1,5 +1,6 @@
 #include "metrics/resource_usage.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <fstream>
@@ -22,6 +23,11 @@ std::int64_t peak_resident_bytes() {
 void reset_peak_resident() {
   std::ofstream clear_refs("/proc/self/clear_refs");
   clear_refs << "5";
+}
+
+void keep_freed_memory_for_reuse() {
+  mallopt(M_MMAP_MAX, 0);
+  mallopt(M_TRIM_THRESHOLD, -1);  // as large as possible: never trim the heap's top
 }
 
 }  // namespace fscil

@@ -6,6 +6,7 @@
 
 #include "datasets/dataset_catalog.h"
 #include "methods/method_registry.h"
+#include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "reports/atomic_file.h"
 #include "reports/context_analysis.h"
@@ -40,6 +41,7 @@ void analyze_contexts(const std::string& results, const std::string& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fscil::keep_freed_memory_for_reuse();
   CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   app.require_subcommand(0, 1);

@@ -12,23 +12,53 @@ namespace {
 nn::Conv2d conv(std::int64_t in, std::int64_t out, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
   return nn::Conv2d(nn::Conv2dOptions(in, out, kernel).stride(stride).padding(padding).bias(false));
 }
+
+// A batch norm at inference is y = x * scale + shift per channel, with these two vectors.
+std::pair<torch::Tensor, torch::Tensor> inference_affine(const nn::BatchNorm2d& norm) {
+  const torch::Tensor scale = norm->weight / torch::sqrt(norm->running_var + norm->options.eps());
+  return {scale, norm->bias - norm->running_mean * scale};
+}
+
+// conv then norm at inference, as one convolution: the norm's scale folds into the weights and its
+// shift becomes the bias.
+torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& norm, const torch::Tensor& x) {
+  const auto [scale, shift] = inference_affine(norm);
+  const auto& options = conv->options;
+  return torch::conv2d(x, conv->weight * scale.view({-1, 1, 1, 1}), shift, *options.stride(),
+                       *c10::get<torch::ExpandingArray<2>>(options.padding()), *options.dilation(), options.groups());
+}
+
 }  // namespace
 
-BasicBlockImpl::BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride)
+BasicBlockImpl::BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride,
+                               bool fold_norms_at_inference)
     : conv1(register_module("conv1", conv(in_planes, planes, 3, stride, 1))),
       conv2(register_module("conv2", conv(planes, planes, 3, 1, 1))),
       bn1(register_module("bn1", nn::BatchNorm2d(planes))),
-      bn2(register_module("bn2", nn::BatchNorm2d(planes))) {
+      bn2(register_module("bn2", nn::BatchNorm2d(planes))),
+      fold_norms_at_inference_(fold_norms_at_inference) {
   if (stride != 1 || in_planes != planes) {
-    downsample = register_module("downsample", nn::Sequential(conv(in_planes, planes, 1, stride, 0), nn::BatchNorm2d(planes)));
+    shortcut_conv_ = conv(in_planes, planes, 1, stride, 0);
+    shortcut_norm_ = nn::BatchNorm2d(planes);
+    downsample = register_module("downsample", nn::Sequential(shortcut_conv_, shortcut_norm_));
   }
 }
 
 torch::Tensor BasicBlockImpl::forward(const torch::Tensor& x) {
-  torch::Tensor out = torch::relu(bn1(conv1(x)));
+  if (!is_training() && fold_norms_at_inference_) {
+    torch::Tensor out = folded_conv_norm(conv1, bn1, x).relu_();
+    out = folded_conv_norm(conv2, bn2, out);
+    if (downsample) {
+      out += folded_conv_norm(shortcut_conv_, shortcut_norm_, x);
+    } else {
+      out += x;
+    }
+    return out.relu_();
+  }
+  torch::Tensor out = bn1(conv1(x)).relu_();
   out = bn2(conv2(out));
   out += downsample ? downsample->forward(x) : x;
-  return torch::relu(out);
+  return out.relu_();
 }
 
 MapShape BasicBlockImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
@@ -37,8 +67,8 @@ MapShape BasicBlockImpl::count_cost(ModelCost& cost, const std::string& name, co
   out = count_conv2d(cost, name + ".conv2", *conv2, out);
   count_batch_norm(cost, name + ".bn2", *bn2, out);
   if (downsample) {
-    const MapShape shortcut = count_conv2d(cost, name + ".downsample.0", *downsample->ptr(0)->as<torch::nn::Conv2d>(), input);
-    count_batch_norm(cost, name + ".downsample.1", *downsample->ptr(1)->as<torch::nn::BatchNorm2d>(), shortcut);
+    const MapShape shortcut = count_conv2d(cost, name + ".downsample.0", *shortcut_conv_, input);
+    count_batch_norm(cost, name + ".downsample.1", *shortcut_norm_, shortcut);
   }
   return out;
 }
@@ -48,12 +78,13 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
       stem(register_module("conv1", conv(options.in_channels, options.widths[0], 7, 2, 3))),
       stem_norm(register_module("bn1", nn::BatchNorm2d(options.widths[0]))),
       stages(register_module("stages", nn::Sequential())),
-      embedding_size_(options.widths[3]) {
+      embedding_size_(options.widths[3]),
+      fold_norms_at_inference_(options.fold_norms_at_inference) {
   std::int64_t in_planes = options.widths[0];
   for (int stage = 0; stage < 4; ++stage) {
     const std::int64_t stride = stage == 0 ? 1 : 2;
-    stages->push_back(BasicBlock(in_planes, options.widths[stage], stride));
-    stages->push_back(BasicBlock(options.widths[stage], options.widths[stage], 1));
+    stages->push_back(BasicBlock(in_planes, options.widths[stage], stride, fold_norms_at_inference_));
+    stages->push_back(BasicBlock(options.widths[stage], options.widths[stage], 1, fold_norms_at_inference_));
     in_planes = options.widths[stage];
   }
   for (auto& module : modules(/*include_self=*/false)) {
@@ -67,9 +98,17 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
 }
 
 torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x) {
-  // bn0 normalises each Mel bin, so the bins become the channel axis for it.
-  torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
-  out = torch::relu(stem_norm(stem(out)));
+  torch::Tensor out;
+  if (!is_training() && fold_norms_at_inference_) {
+    // bn0 at inference: a scale and shift per Mel bin, broadcast over the contiguous input.
+    const auto [scale, shift] = inference_affine(input_norm);
+    const torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
+    out = folded_conv_norm(stem, stem_norm, normalised).relu_();
+  } else {
+    // bn0 normalises each Mel bin, so the bins become the channel axis for it.
+    out = input_norm(x.transpose(1, 2)).transpose(1, 2);
+    out = stem_norm(stem(out)).relu_();
+  }
   out = torch::max_pool2d(out, 3, 2, 1);
   out = stages->forward(out);
   return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);

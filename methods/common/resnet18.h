@@ -13,11 +13,14 @@ struct ResNet18Options {
   std::int64_t in_channels = 1;
   std::int64_t mel_bins = 64;
   std::array<std::int64_t, 4> widths = {64, 128, 256, 256};  // PITS-SC narrows the last stage: D = 256
+  // In eval mode, run each convolution and its batch norm as one convolution with folded weights
+  // (same function up to float rounding, one pass over the activations instead of two).
+  bool fold_norms_at_inference = true;
 };
 
 class BasicBlockImpl : public torch::nn::Module {
  public:
-  BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride);
+  BasicBlockImpl(std::int64_t in_planes, std::int64_t planes, std::int64_t stride, bool fold_norms_at_inference);
   torch::Tensor forward(const torch::Tensor& x);
   // Adds this block's inference cost for one sample; returns its output shape.
   MapShape count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;
@@ -25,7 +28,10 @@ class BasicBlockImpl : public torch::nn::Module {
  private:
   torch::nn::Conv2d conv1{nullptr}, conv2{nullptr};
   torch::nn::BatchNorm2d bn1{nullptr}, bn2{nullptr};
-  torch::nn::Sequential downsample{nullptr};
+  torch::nn::Sequential downsample{nullptr};  // holds the two below, under PyTorch's names
+  torch::nn::Conv2d shortcut_conv_{nullptr};
+  torch::nn::BatchNorm2d shortcut_norm_{nullptr};
+  bool fold_norms_at_inference_;
 };
 TORCH_MODULE(BasicBlock);
 
@@ -45,6 +51,7 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   torch::nn::BatchNorm2d stem_norm{nullptr};
   torch::nn::Sequential stages{nullptr};
   std::int64_t embedding_size_;
+  bool fold_norms_at_inference_;
 };
 TORCH_MODULE(ResNet18Encoder);
 

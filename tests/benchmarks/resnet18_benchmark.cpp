@@ -1,0 +1,113 @@
+// The shared ResNet-18 (D = 256, with PITS-SC's input norm) trained and run as the methods do,
+// against PyTorch's rates on this machine (issue 8: Python, same kernels underneath), with the
+// achieved GFLOP/s beside a 2048 x 2048 matrix product and a 3 x 3 convolution measured here.
+// Training GFLOP/s counts 3 x the forward (forward, input gradients, weight gradients).
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <torch/torch.h>
+
+#include <chrono>
+#include <thread>
+
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/resnet18.h"
+#include "methods/common/supervised_training.h"
+#include "metrics/resource_usage.h"
+
+namespace {
+
+constexpr std::int64_t kBatch = 128, kClasses = 60;
+
+struct Shape {
+  std::int64_t channels, mel_bins, frames;
+  double pytorch_rate;  // samples/s of PyTorch on this machine
+};
+
+double forward_flops(fscil::ResNet18Encoder& encoder, const Shape& shape) {
+  fscil::ModelCost cost;
+  encoder->count_cost(cost, "encoder", {shape.channels, shape.mel_bins, shape.frames});
+  return static_cast<double>(cost.flops());
+}
+
+void report(benchmark::State& state, double flops_per_sample, double pytorch_rate, double seconds) {
+  const double rate = static_cast<double>(kBatch * state.iterations()) / seconds;
+  state.SetLabel(fmt::format("target >= PyTorch: {}", rate >= pytorch_rate ? "met" : "MISSED"));
+  state.counters["samples_per_s"] =
+      benchmark::Counter(static_cast<double>(kBatch), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["pytorch_samples_per_s"] = pytorch_rate;
+  state.counters["GFLOP_per_s"] =
+      benchmark::Counter(flops_per_sample * kBatch / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void train(benchmark::State& state, Shape shape) {
+  torch::manual_seed(1);
+  fscil::ResNet18Encoder encoder(fscil::ResNet18Options{shape.channels, shape.mel_bins});
+  fscil::CosineClassifier classifier(kClasses, encoder->embedding_size(), 16.0);
+  std::vector<torch::Tensor> parameters = encoder->parameters();
+  parameters.push_back(classifier->weight());
+  auto optimizer = fscil::make_nesterov_sgd(parameters, fscil::SupervisedSchedule{});
+  encoder->train();
+  const torch::Tensor features = torch::randn({kBatch, shape.channels, shape.mel_bins, shape.frames});
+  const torch::Tensor labels = torch::randint(kClasses, {kBatch});
+  const auto step = [&] {
+    optimizer.zero_grad();
+    const torch::Tensor loss = torch::cross_entropy_loss(classifier->forward(encoder->forward(features), kClasses), labels);
+    loss.backward();
+    optimizer.step();
+  };
+  step();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) step();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report(state, 3 * forward_flops(encoder, shape), shape.pytorch_rate, seconds);
+}
+
+void infer(benchmark::State& state, Shape shape) {
+  torch::manual_seed(1);
+  fscil::ResNet18Encoder encoder(fscil::ResNet18Options{shape.channels, shape.mel_bins});
+  encoder->eval();
+  torch::NoGradGuard no_grad;
+  const torch::Tensor features = torch::randn({kBatch, shape.channels, shape.mel_bins, shape.frames});
+  encoder->forward(features);  // warm-up
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) benchmark::DoNotOptimize(encoder->forward(features).data_ptr());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report(state, forward_flops(encoder, shape), shape.pytorch_rate, seconds);
+}
+
+void matmul_peak(benchmark::State& state) {
+  const torch::Tensor a = torch::randn({2048, 2048}), b = torch::randn({2048, 2048});
+  for (auto _ : state) benchmark::DoNotOptimize(torch::mm(a, b).data_ptr());
+  state.counters["GFLOP_per_s"] =
+      benchmark::Counter(2.0 * 2048 * 2048 * 2048 / 1e9, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["issue_GFLOP_per_s"] = 202;
+}
+
+void conv3x3_peak(benchmark::State& state) {
+  // ResNet-18's widest 3 x 3 layer on a HapTex batch: 128 x 64 x 16 x 6.
+  torch::NoGradGuard no_grad;
+  const torch::Tensor input = torch::randn({kBatch, 64, 16, 6}), weight = torch::randn({64, 64, 3, 3});
+  for (auto _ : state) benchmark::DoNotOptimize(torch::conv2d(input, weight, {}, 1, 1).data_ptr());
+  state.counters["GFLOP_per_s"] = benchmark::Counter(2.0 * kBatch * 64 * 16 * 6 * 64 * 9 / 1e9,
+                                                     benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["issue_GFLOP_per_s"] = 131;
+}
+
+BENCHMARK(matmul_peak)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK(conv3x3_peak)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(train, haptex_5x64x24, Shape{5, 64, 24, 244})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(infer, haptex_5x64x24, Shape{5, 64, 24, 1196})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(train, lmt108_3x64x493, Shape{3, 64, 493, 23})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK_CAPTURE(infer, lmt108_3x64x493, Shape{3, 64, 493, 58})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  fscil::keep_freed_memory_for_reuse();
+  torch::set_num_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
