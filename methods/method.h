@@ -60,6 +60,13 @@ class Method {
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
   virtual ReplayFootprint replay_footprint() const { return {}; }
+  // Variants that differ only after the base session return the same non-empty key (for the same
+  // hyper-parameters); the runner then trains the base once per seed and hands it on.
+  virtual std::string shared_base_key() const { return {}; }
+  // Takes over `trained`'s modules as they stood right after its train_base(), and the run's
+  // random state as it was then, so the sessions that follow are exactly those of a run that
+  // trained its own base. `trained` must not be used afterwards. False when it cannot.
+  virtual bool continue_from_base(Method& /*trained*/, RunContext& /*context*/) { return false; }
   // Inference cost of one sample through embed() and classify() as the model stands now,
   // counted by walking the method's modules (rules in metrics/model_cost.h).
   virtual ModelCost inference_cost(const InputShape& input) const = 0;

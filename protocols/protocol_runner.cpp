@@ -91,7 +91,8 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
 }
 
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
-                                         const SessionSchedule& schedule, RunContext& context) {
+                                         const SessionSchedule& schedule, RunContext& context,
+                                         std::optional<double> inherited_base_seconds) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const torch::Tensor test_index = torch::tensor(schedule.test, torch::kLong);
@@ -115,12 +116,12 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     outcome.session = session;
     outcome.seen_classes = plan.seen_after(session);
     Stopwatch train_clock;
-    if (session == 0) {
-      method.train_base(data, context);
-    } else {
+    if (session > 0) {
       method.learn_session(data, context);
+    } else if (!inherited_base_seconds) {
+      method.train_base(data, context);
     }
-    outcome.train_seconds = train_clock.seconds();
+    outcome.train_seconds = session == 0 && inherited_base_seconds ? *inherited_base_seconds : train_clock.seconds();
 
     Stopwatch test_clock;
     const torch::Tensor seen = (test_labels < outcome.seen_classes).nonzero().flatten();

@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <vector>
 
 #include "datasets/prepared_dataset.h"
@@ -16,8 +17,11 @@ InputShape input_shape_of(const PreparedDataset& dataset);
 
 // Drives any method through every session of the schedule and scores it after each on the
 // joint test set of all classes seen so far. The runner never knows which method it drives.
+// With `inherited_base_seconds` the method already holds a base trained elsewhere (see
+// Method::continue_from_base): session 0 is only tested, and reports that training time.
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
-                                         const SessionSchedule& schedule, RunContext& context);
+                                         const SessionSchedule& schedule, RunContext& context,
+                                         std::optional<double> inherited_base_seconds = std::nullopt);
 
 struct InferenceTiming {
   double seconds_per_sample = 0;

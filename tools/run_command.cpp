@@ -5,6 +5,8 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <map>
+#include <optional>
 #include <thread>
 
 #include "datasets/dataset_catalog.h"
@@ -107,6 +109,13 @@ void run_benchmark(const RunOptions& options) {
   const auto machine = describe_machine();
   const std::string commit = source_commit();
   std::vector<RunRecord> records;
+  // Per (shared base key, seed): the last method that trained or inherited that base.
+  struct TrainedBase {
+    std::unique_ptr<Method> method;
+    std::string trained_by;
+    double seconds = 0;
+  };
+  std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
   for (std::size_t m = 0; m < method_names.size(); ++m) {
     for (std::size_t s = 0; s < seeds.size(); ++s) {
       progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", method_names[m], options.dataset, seeds[s],
@@ -120,7 +129,16 @@ void run_benchmark(const RunOptions& options) {
       context.progress = &progress;
       reset_peak_resident();
       Stopwatch run_clock;
-      const auto outcomes = run_sessions(*method, dataset, schedules[s], context);
+      const std::string base_key = method->shared_base_key();
+      std::optional<double> inherited_base_seconds;
+      std::string base_trained_by;
+      if (auto found = trained_bases.find({base_key, seeds[s]});
+          !base_key.empty() && found != trained_bases.end() && method->continue_from_base(*found->second.method, context)) {
+        inherited_base_seconds = found->second.seconds;
+        base_trained_by = found->second.trained_by;
+        progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
+      }
+      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, inherited_base_seconds);
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);
 
@@ -147,8 +165,13 @@ void run_benchmark(const RunOptions& options) {
       const ReplayFootprint replay = method->replay_footprint();
       record.replay_samples = replay.samples;
       record.replay_bytes = replay.bytes;
+      if (!base_trained_by.empty()) record.parameters["base_training"] = "shared with " + base_trained_by;
       save_run_record(options.out, record);
       records.push_back(std::move(record));
+      if (!base_key.empty()) {
+        trained_bases[{base_key, seeds[s]}] = {std::move(method), base_trained_by.empty() ? method_names[m] : base_trained_by,
+                                               outcomes.front().train_seconds};
+      }
     }
   }
   const std::string markdown = write_reports(options.out, records);

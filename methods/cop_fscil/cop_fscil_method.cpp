@@ -128,6 +128,38 @@ torch::Tensor CopFscilMethod::probe_embeddings(const torch::Tensor& features, in
   return torch::cat(parts);
 }
 
+void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
+  PitsScMethod::train_base(base, context);
+  auto state = std::make_shared<BaseState>();
+  state->classifier = ParameterSnapshot(*classifier_);
+  state->stored_means = stored_means_.clone();
+  state->seen_classes = seen_classes_;
+  state->generator = context.generator;
+  auto torch_generator = at::detail::getDefaultCPUGenerator();
+  std::lock_guard<std::mutex> lock(torch_generator.mutex());
+  state->torch_generator_state = torch_generator.get_state();
+  base_state_ = std::move(state);
+}
+
+bool CopFscilMethod::continue_from_base(Method& trained, RunContext& context) {
+  auto* source = dynamic_cast<CopFscilMethod*>(&trained);
+  if (source == nullptr || source->base_state_ == nullptr || source->shared_base_key() != shared_base_key()) return false;
+  encoder_ = source->encoder_;
+  classifier_ = source->classifier_;
+  adapter_ = source->adapter_;
+  probe_ = source->probe_;
+  bank_fed_by_episodes_ = source->bank_fed_by_episodes_;
+  base_state_ = source->base_state_;
+  base_state_->classifier.restore_into(*classifier_);
+  stored_means_ = base_state_->stored_means.clone();
+  seen_classes_ = base_state_->seen_classes;
+  context.generator = base_state_->generator;
+  auto torch_generator = at::detail::getDefaultCPUGenerator();
+  std::lock_guard<std::mutex> lock(torch_generator.mutex());
+  torch_generator.set_state(base_state_->torch_generator_state);
+  return true;
+}
+
 ModelCost CopFscilMethod::inference_cost(const InputShape& input) const {
   ModelCost cost = PitsScMethod::inference_cost(input);
   if (components_.pcqa) adapter_->count_cost(cost, "adapter");

@@ -4,6 +4,7 @@
 #include "methods/cop_fscil/context_probe.h"
 #include "methods/cop_fscil/cop_fscil_settings.h"
 #include "methods/cop_fscil/quotient_adapter.h"
+#include "methods/common/parameter_snapshot.h"
 #include "methods/pits_sc/pits_sc_method.h"
 
 namespace fscil {
@@ -18,7 +19,11 @@ namespace fscil {
 class CopFscilMethod : public PitsScMethod {
  public:
   CopFscilMethod(const ParameterSet& params, CopFscilComponents components);
+  void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
+  // cop-fscil/cpi and cop-fscil/cpi+pspc share their base, as do cop-fscil/cpi+pcqa and cop-fscil.
+  std::string shared_base_key() const override { return components_.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa"; }
+  bool continue_from_base(Method& trained, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   ModelCost inference_cost(const InputShape& input) const override;
 
@@ -47,6 +52,16 @@ class CopFscilMethod : public PitsScMethod {
   // Pretraining batches reach the statistic bank through training_embedding; from the first
   // episode on, perturb_episode feeds it each episode's unperturbed samples instead.
   bool bank_fed_by_episodes_ = false;
+  // What sessions change, as train_base left it: the classifier, the stored means and the
+  // random state (the encoder, bn0, adapter and probe bank are frozen after the base session).
+  struct BaseState {
+    ParameterSnapshot classifier;
+    torch::Tensor stored_means;
+    std::int64_t seen_classes = 0;
+    std::mt19937_64 generator;
+    torch::Tensor torch_generator_state;
+  };
+  std::shared_ptr<const BaseState> base_state_;
 };
 
 std::unique_ptr<Method> make_cop_fscil_cpi(const ParameterSet& params);

@@ -1,5 +1,5 @@
 // CoP-FSCIL as a method: its variants, the episode coverage of CPI, PSPC's session update and
-// its loss, and seeded repeatability, on the tiny 10-class protocol (6 base, 2-way 5-shot).
+// its loss, seeded repeatability and base sharing between variants, on the tiny 10-class protocol (6 base, 2-way 5-shot).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -220,6 +220,32 @@ TEST(CopFscil, SeededRunsRepeatExactly) {
   auto other = train("cop-fscil", tiny_params(1, 3), 5);
   other.method->learn_session(support, other.context);
   EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*one.method), logits_on_fixed_probe(*other.method)));
+}
+
+TEST(CopFscil, AVariantContinuingAnotherVariantsBaseRunsExactlyAsOnItsOwnBase) {
+  const SessionData first = tiny_support(6), second = tiny_support(8);
+  auto own = train("cop-fscil", tiny_params(1, 3), 4);
+  own.method->learn_session(first, own.context);
+  own.method->learn_session(second, own.context);
+
+  // cop-fscil/cpi+pcqa trains the same base and runs its own sessions; cop-fscil then takes over
+  // that base as it stood before those sessions.
+  auto donor = train("cop-fscil/cpi+pcqa", tiny_params(1, 3), 4);
+  donor.method->learn_session(first, donor.context);
+  donor.method->learn_session(second, donor.context);
+  auto heir = create_method("cop-fscil", tiny_params(1, 3));
+  RunContext context = tiny_context(4);
+  context.generator.discard(17);  // whatever the runner's state, the base's random state comes back
+  torch::manual_seed(123);
+  ASSERT_TRUE(heir->continue_from_base(*donor.method, context));
+  heir->learn_session(first, context);
+  heir->learn_session(second, context);
+  EXPECT_TRUE(torch::equal(logits_on_fixed_probe(*own.method), logits_on_fixed_probe(*heir)));
+
+  // Without PCQA the base is a different one: no hand-over.
+  auto other = create_method("cop-fscil/cpi+pspc", tiny_params(1, 3));
+  EXPECT_NE(other->shared_base_key(), heir->shared_base_key());
+  EXPECT_FALSE(other->continue_from_base(*heir, context));
 }
 
 }  // namespace

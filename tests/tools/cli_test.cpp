@@ -1,5 +1,7 @@
 // Runs the fscil-bench executable as a user would and checks exit codes, messages and files.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <sys/wait.h>
 
 #include <array>
@@ -114,6 +116,30 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
     EXPECT_EQ(r_mean, 0.0) << line;
   }
   EXPECT_EQ(rows, 3);
+}
+
+// The accuracies recorded in one result file, as written.
+std::string accuracies_in(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, accuracies;
+  while (std::getline(in, line)) {
+    if (line.find("\"accuracy\"") != std::string::npos) accuracies += line;
+  }
+  return accuracies;
+}
+
+TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
+  TemporaryDirectory together, alone;
+  const std::string common = " --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out ";
+  ASSERT_EQ(run_cli("--methods cop-fscil/cpi+pcqa,cop-fscil" + common + together.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli("--methods cop-fscil" + common + alone.path().string()).exit_code, 0);
+  const auto file = std::filesystem::path("results") / "cop-fscil__simtex-mini__seed1.json";
+  const std::string shared = accuracies_in(together.path() / file);
+  EXPECT_EQ(std::count(shared.begin(), shared.end(), ':'), 3);  // acc_0..acc_2
+  EXPECT_EQ(shared, accuracies_in(alone.path() / file));
+  std::ifstream record(together.path() / file);
+  EXPECT_NE(std::string(std::istreambuf_iterator<char>(record), {}).find("\"base_training\": \"shared with cop-fscil/cpi+pcqa\""),
+            std::string::npos);
 }
 
 TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
