@@ -10,7 +10,6 @@
 #include <torch/torch.h>
 
 #include <chrono>
-#include <thread>
 
 #include "datasets/log_mel_extractor.h"
 
@@ -84,12 +83,3 @@ BENCHMARK_CAPTURE(log_mel, ls100, Preset{"ls100", 3, 32000, 341})->Unit(benchmar
 BENCHMARK_CAPTURE(log_mel, ns100, Preset{"ns100", 3, 64000, 194})->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
 }  // namespace
-
-int main(int argc, char** argv) {
-  torch::set_num_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}

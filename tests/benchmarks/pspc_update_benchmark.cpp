@@ -7,10 +7,7 @@
 #include <benchmark/benchmark.h>
 #include <torch/torch.h>
 
-#include <thread>
-
 #include "methods/cop_fscil/cop_fscil_method.h"
-#include "metrics/resource_usage.h"
 #include "protocols/parameter_set.h"
 
 namespace {
@@ -62,13 +59,3 @@ BENCHMARK_CAPTURE(pspc_update, lmt108_shape, fscil::InputShape{3, 64, 493, 7900}
     ->Arg(5)->Arg(10)->Arg(50)->Arg(100)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(2);
 
 }  // namespace
-
-int main(int argc, char** argv) {
-  fscil::keep_freed_memory_for_reuse();
-  torch::set_num_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}

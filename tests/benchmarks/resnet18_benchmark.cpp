@@ -7,12 +7,10 @@
 #include <torch/torch.h>
 
 #include <chrono>
-#include <thread>
 
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
 #include "methods/common/supervised_training.h"
-#include "metrics/resource_usage.h"
 
 namespace {
 
@@ -101,13 +99,3 @@ BENCHMARK_CAPTURE(train, lmt108_3x64x493, Shape{3, 64, 493, 23})->Unit(benchmark
 BENCHMARK_CAPTURE(infer, lmt108_3x64x493, Shape{3, 64, 493, 58})->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
 
 }  // namespace
-
-int main(int argc, char** argv) {
-  fscil::keep_freed_memory_for_reuse();
-  torch::set_num_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
-}
