@@ -27,7 +27,7 @@ void reset_peak_resident() {
 
 void keep_freed_memory_for_reuse() {
   mallopt(M_MMAP_MAX, 0);
-  mallopt(M_TRIM_THRESHOLD, -1);  // as large as possible: never trim the heap's top
+  mallopt(M_TRIM_THRESHOLD, -1);  // -1: never give the heap's top back
 }
 
 }  // namespace fscil
