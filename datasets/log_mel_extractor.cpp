@@ -65,6 +65,19 @@ __attribute__((target_clones("avx2", "default"))) void decibels_in_place(float* 
   }
 }
 
+// Whether no sample is NaN or infinite, in a branch-free loop the compiler vectorises (the
+// per-sample std::isfinite test took a tenth of the front end's time).
+__attribute__((target_clones("avx2", "default"))) bool all_finite(const float* values, std::int64_t count) {
+  // A float is finite when its exponent bits are not all ones.
+  std::int32_t infinite = 0;
+  for (std::int64_t i = 0; i < count; ++i) {
+    std::int32_t bits;
+    std::memcpy(&bits, values + i, sizeof bits);
+    infinite |= static_cast<std::int32_t>((bits & 0x7f800000) == 0x7f800000);
+  }
+  return infinite == 0;
+}
+
 }  // namespace
 
 struct LogMelExtractor::Plan {
@@ -123,11 +136,10 @@ void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std:
   if (frames(length) < 1) {
     throw DatasetError(fmt::format("signal of {} samples is shorter than n_fft {}", length, settings_.n_fft));
   }
-  for (std::int64_t i = 0; i < rows * length; ++i) {
-    if (!std::isfinite(signals[i])) {
-      throw DatasetError(fmt::format("signal row {} sample {} is {}: finite values expected",
-                                     i / length, i % length, signals[i]));
-    }
+  if (!all_finite(signals, rows * length)) {
+    const std::int64_t i = std::find_if(signals, signals + rows * length, [](float x) { return !std::isfinite(x); }) - signals;
+    throw DatasetError(fmt::format("signal row {} sample {} is {}: finite values expected", i / length, i % length,
+                                   signals[i]));
   }
   if (rows == 0) return;
   const int available = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
