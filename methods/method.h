@@ -24,6 +24,8 @@ struct SessionData {
 
 struct InputShape {
   std::int64_t channels = 0, mel_bins = 0, frames = 0, signal_length = 0;
+  // One sample's log-Mel map, as cost counting walks it.
+  MapShape feature_map() const { return {channels, mel_bins, frames}; }
 };
 
 // What a method may use besides its data: seeded randomness, its parameters, the protocol's

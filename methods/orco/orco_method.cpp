@@ -222,7 +222,7 @@ torch::Tensor OrcoMethod::classify(const torch::Tensor& embeddings) {
 
 ModelCost OrcoMethod::inference_cost(const InputShape& input) const {
   ModelCost cost;
-  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  encoder_->count_cost(cost, "encoder", input.feature_map());
   const std::int64_t projection = projector_->count_cost(cost, "projector");
   // Logits are dot products with fixed unit targets: no learnt parameters.
   count_cosine_classifier(cost, "targets", projection, static_cast<std::int64_t>(class_targets_.size()), {});

@@ -135,7 +135,7 @@ torch::Tensor PitsScMethod::classify(const torch::Tensor& embeddings) {
 
 ModelCost PitsScMethod::inference_cost(const InputShape& input) const {
   ModelCost cost;
-  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  encoder_->count_cost(cost, "encoder", input.feature_map());
   // Inference uses mu only; sigma is still a parameter the model holds.
   count_cosine_classifier(cost, "classifier", encoder_->embedding_size(), seen_classes_, classifier_->parameters());
   cost.freeze("encoder");  // sessions fine-tune the classifier only

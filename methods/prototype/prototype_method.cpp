@@ -43,7 +43,7 @@ torch::Tensor PrototypeMethod::classify(const torch::Tensor& embeddings) {
 
 ModelCost PrototypeMethod::inference_cost(const InputShape& input) const {
   ModelCost cost;
-  encoder_->count_cost(cost, "encoder", {input.channels, input.mel_bins, input.frames});
+  encoder_->count_cost(cost, "encoder", input.feature_map());
   count_cosine_classifier(cost, "classifier", encoder_->embedding_size(), seen_classes_, classifier_->parameters());
   cost.freeze("");  // sessions only append mean embeddings
   return cost;
