@@ -4,14 +4,15 @@
 #include <fmt/ostream.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "datasets/dataset_error.h"
-#include "datasets/feature_cache.h"
 #include "datasets/log_mel_extractor.h"
 #include "datasets/readers/audio_adapters.h"
 #include "datasets/readers/folder_adapter.h"
 #include "datasets/readers/lmt108_adapter.h"
 #include "datasets/readers/scanned_recordings.h"
+#include "datasets/segment_cache.h"
 #include "datasets/simtex.h"
 #include "protocols/parameter_set.h"
 
@@ -78,8 +79,17 @@ LogMelSettings with_mel_options(LogMelSettings settings, const ParameterSet& par
   return settings;
 }
 
-// Loads the features of `description` from the cache, or makes the recordings, cuts and
-// transforms them and stores the result. Nothing is stored unless every step succeeded.
+bool keeps_features_in_memory(const SegmentSet& segments, const LogMelExtractor& extractor, FeatureStorage storage) {
+  if (storage != FeatureStorage::automatic) return storage == FeatureStorage::in_memory;
+  const auto& shape = segments.signals.shape;
+  const std::int64_t bytes = shape[0] * shape[1] * extractor.settings().n_mels *
+                             extractor.frames(shape[2]) * static_cast<std::int64_t>(sizeof(float));
+  return bytes <= kInMemoryFeatureLimitBytes;
+}
+
+// Loads the segments of `description` from the cache, or makes the recordings, cuts them and
+// stores the segments (only when every step succeeded); then computes the features unless
+// they are to be computed on demand.
 PreparedDataset prepare_with_cache(const DatasetDescription& description, const DatasetRequest& request,
                                    std::ostream& log, const std::function<std::vector<Recording>()>& make_recordings) {
   const LogMelExtractor extractor(description.front_end);
@@ -88,18 +98,27 @@ PreparedDataset prepare_with_cache(const DatasetDescription& description, const 
                "their rows stay at -100 dB\n", extractor.empty_filters(), description.front_end.n_mels,
                description.front_end.n_fft);
   }
-  const FeatureCache cache(request.cache_dir);
-  if (!request.cache_dir.empty()) {
-    std::string problem;
-    if (auto cached = cache.load(description, &problem)) return std::move(*cached);
-    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
-  }
   PreparedDataset dataset;
   dataset.description = description;
-  dataset.cache_key = FeatureCache::key_for(description);
-  dataset.segments = segment_recordings(make_recordings(), description.segment);
-  dataset.features = extractor.extract(dataset.segments.signals, request.threads);
-  if (!request.cache_dir.empty()) cache.store(dataset);
+  dataset.cache_key = SegmentCache::key_for(description);
+  const SegmentCache cache(request.cache_dir);
+  std::optional<SegmentSet> cached;
+  if (!request.cache_dir.empty()) {
+    std::string problem;
+    cached = cache.load(description, &problem);
+    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
+  }
+  if (cached) {
+    dataset.segments = std::move(*cached);
+  } else {
+    dataset.segments = segment_recordings(make_recordings(), description.segment);
+    if (!request.cache_dir.empty()) cache.store(description, dataset.segments);
+  }
+  if (keeps_features_in_memory(dataset.segments, extractor, request.features)) {
+    dataset.features = extractor.extract(dataset.segments.signals, request.threads);
+  } else {
+    extractor.check_length(dataset.segments.signals.shape[2]);  // fail now, not in the middle of a run
+  }
   return dataset;
 }
 
@@ -146,6 +165,13 @@ PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& reque
 }
 
 }  // namespace
+
+FeatureStorage parse_feature_storage(const std::string& text) {
+  if (text == "auto") return FeatureStorage::automatic;
+  if (text == "memory") return FeatureStorage::in_memory;
+  if (text == "on-demand") return FeatureStorage::on_demand;
+  throw DatasetError(fmt::format("feature storage '{}': expected auto, memory or on-demand", text));
+}
 
 std::vector<CatalogEntry> dataset_catalog() {
   std::vector<CatalogEntry> entries;

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <ostream>
 #include <string>
@@ -16,10 +17,19 @@ struct CatalogEntry {
   bool simulated = false;
 };
 
+// Where log-Mel features live during a run. In memory they are computed once; on demand each batch
+// is computed from the raw signals when a method asks for it, so a dataset whose features would
+// not fit (simtex-lmt: 4.9 GB) runs in the memory of its signals. Both give the same features.
+enum class FeatureStorage { automatic, in_memory, on_demand };
+FeatureStorage parse_feature_storage(const std::string& text);
+// `automatic` keeps features in memory up to this size.
+constexpr std::int64_t kInMemoryFeatureLimitBytes = std::int64_t{1} << 30;
+
 struct DatasetRequest {
   std::filesystem::path data_root;  // required by real datasets
   std::filesystem::path cache_dir;  // empty: no cache
   int threads = 0;
+  FeatureStorage features = FeatureStorage::automatic;
 };
 
 // Every dataset the CLI knows, simulated and real, one line each.

@@ -127,8 +127,7 @@ FloatArray LogMelExtractor::extract(const FloatArray& signals, int threads) cons
   return out;
 }
 
-void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std::int64_t length, float* out,
-                                   int threads) const {
+void LogMelExtractor::check_length(std::int64_t length) const {
   const std::int64_t pad = settings_.center ? settings_.n_fft / 2 : 0;
   if (settings_.center && length <= pad) {
     throw DatasetError(fmt::format("signal of {} samples is too short to reflect-pad by {}", length, pad));
@@ -136,6 +135,11 @@ void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std:
   if (frames(length) < 1) {
     throw DatasetError(fmt::format("signal of {} samples is shorter than n_fft {}", length, settings_.n_fft));
   }
+}
+
+void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std::int64_t length, float* out,
+                                   int threads) const {
+  check_length(length);
   if (!all_finite(signals, rows * length)) {
     const std::int64_t i = std::find_if(signals, signals + rows * length, [](float x) { return !std::isfinite(x); }) - signals;
     throw DatasetError(fmt::format("signal row {} sample {} is {}: finite values expected", i / length, i % length,

@@ -23,6 +23,8 @@ class LogMelExtractor {
   std::int64_t frames(std::int64_t length) const { return settings_.frames(length); }
   // Filters no FFT bin falls into; callers warn about them once (torchaudio warns too).
   std::int64_t empty_filters() const { return filterbank_.empty_filters(); }
+  // Throws DatasetError when signals of `length` samples give no frame.
+  void check_length(std::int64_t length) const;
 
   // signals: ... x L (any leading shape, e.g. N x C x L) -> ... x n_mels x frames.
   FloatArray extract(const FloatArray& signals, int threads = 0) const;

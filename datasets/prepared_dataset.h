@@ -33,8 +33,10 @@ struct DatasetDescription {
 struct PreparedDataset {
   DatasetDescription description;
   SegmentSet segments;
-  FloatArray features;  // N x C x n_mels x frames
+  FloatArray features;  // N x C x n_mels x frames; empty when features are computed on demand
   std::string cache_key;
+
+  bool features_on_demand() const { return features.shape.empty(); }
 };
 
 }  // namespace fscil

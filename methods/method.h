@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "methods/sample_rows.h"
 #include "metrics/model_cost.h"
 #include "protocols/parameter_set.h"
 #include "protocols/progress_reporter.h"
@@ -16,8 +17,8 @@ namespace fscil {
 // One session's labelled data as a method sees it: no file names, no test labels.
 struct SessionData {
   int session = 0;                  // 0 = base
-  torch::Tensor features;           // N x C x n_mels x frames, log-Mel
-  torch::Tensor signals;            // N x C x L, the raw segments (for methods that mix raw signals)
+  SampleRows features;              // N x C x n_mels x frames, log-Mel
+  SampleRows signals;               // N x C x L, the raw segments (for methods that mix raw signals)
   torch::Tensor labels;             // N, int64 protocol class indices
   std::vector<std::int64_t> new_classes;  // classes this session introduces
 };
@@ -74,9 +75,13 @@ class Method {
   virtual ModelCost inference_cost(const InputShape& input) const = 0;
 
   torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }
+  // embed() over rows of any number, a batch at a time.
+  torch::Tensor embed_rows(const SampleRows& features, std::int64_t batch_size = 512) {
+    return map_batches(features, batch_size, [this](const torch::Tensor& batch) { return embed(batch); });
+  }
   // Top-1 accuracy in percent on labelled data (the base validation split, for progress notes).
   double accuracy_on(const SessionData& data) {
-    return 100.0 * (logits(data.features).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
+    return 100.0 * (classify(embed_rows(data.features)).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
   }
 };
 

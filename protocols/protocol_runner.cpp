@@ -14,16 +14,62 @@ namespace fscil {
 
 namespace {
 
-// Rows of a N x C x ... array; with channel_repeat > 1 (mono stored once) the channel axis is an
-// expanded view, so the repeat costs no memory until a batch is gathered from it.
-torch::Tensor rows_of(const FloatArray& array, const torch::Tensor& index, int channel_repeat) {
-  // from_blob wraps the dataset's memory without copying; index_select makes the owned copy.
-  const torch::Tensor all = torch::from_blob(const_cast<float*>(array.values.data()), array.shape, torch::kFloat);
-  torch::Tensor rows = all.index_select(0, index);
+torch::Tensor tensor_of(const FloatArray& array) {
+  // from_blob wraps the dataset's memory without copying; callers index_select an owned copy.
+  return torch::from_blob(const_cast<float*>(array.values.data()), array.shape, torch::kFloat);
+}
+
+// With channel_repeat > 1 (mono stored once) the channel axis becomes an expanded view, so the
+// repeat costs no memory until a method computes on it.
+torch::Tensor repeat_channels(const torch::Tensor& rows, int channel_repeat) {
   if (channel_repeat == 1) return rows;
   std::vector<std::int64_t> shape = rows.sizes().vec();
   shape[1] *= channel_repeat;
   return rows.expand(shape);
+}
+
+using FrontEnd = std::function<torch::Tensor(const torch::Tensor&)>;
+
+// The dataset's front end on tensors: ... x L raw signals -> ... x n_mels x frames.
+FrontEnd tensor_front_end(const LogMelSettings& settings) {
+  auto extractor = std::make_shared<const LogMelExtractor>(settings);
+  return [extractor](const torch::Tensor& signals) {
+    const torch::Tensor input = signals.to(torch::kFloat).contiguous();
+    const std::int64_t length = input.size(-1);
+    std::vector<std::int64_t> shape(input.sizes().begin(), input.sizes().end() - 1);
+    shape.push_back(extractor->settings().n_mels);
+    shape.push_back(extractor->frames(length));
+    torch::Tensor features = torch::empty(shape, torch::kFloat);
+    extractor->extract_rows(input.data_ptr<float>(), input.numel() / length, length, features.data_ptr<float>(),
+                            torch::get_num_threads());
+    return features;
+  };
+}
+
+// Rows of the dataset at `segments`: signals, or features as stored or computed per request.
+SampleRows signal_rows(const PreparedDataset& dataset, const std::vector<std::int64_t>& segments) {
+  const torch::Tensor positions = torch::tensor(segments, torch::kLong);
+  const torch::Tensor all = tensor_of(dataset.segments.signals);
+  const int repeat = dataset.description.channel_repeat;
+  return SampleRows(positions.size(0), [positions, all, repeat](const torch::Tensor& index) {
+    return repeat_channels(all.index_select(0, positions.index_select(0, index)), repeat);
+  });
+}
+
+SampleRows feature_rows(const PreparedDataset& dataset, const std::vector<std::int64_t>& segments) {
+  const torch::Tensor positions = torch::tensor(segments, torch::kLong);
+  const int repeat = dataset.description.channel_repeat;
+  if (dataset.features_on_demand()) {
+    const torch::Tensor signals = tensor_of(dataset.segments.signals);
+    const FrontEnd front_end = tensor_front_end(dataset.description.front_end);
+    return SampleRows(positions.size(0), [positions, signals, repeat, front_end](const torch::Tensor& index) {
+      return repeat_channels(front_end(signals.index_select(0, positions.index_select(0, index))), repeat);
+    });
+  }
+  const torch::Tensor all = tensor_of(dataset.features);
+  return SampleRows(positions.size(0), [positions, all, repeat](const torch::Tensor& index) {
+    return repeat_channels(all.index_select(0, positions.index_select(0, index)), repeat);
+  });
 }
 
 constexpr std::int64_t kTestBatch = 512;
@@ -50,18 +96,6 @@ std::vector<int> context_ids(const SegmentSet& segments) {
   return per_segment;
 }
 
-// The dataset's front end on tensors, for methods that transform raw signals while training.
-std::function<torch::Tensor(const torch::Tensor&)> tensor_front_end(const LogMelSettings& settings) {
-  auto extractor = std::make_shared<const LogMelExtractor>(settings);
-  return [extractor](const torch::Tensor& signals) {
-    const torch::Tensor input = signals.to(torch::kFloat).contiguous();
-    FloatArray array(input.sizes().vec());
-    std::copy(input.data_ptr<float>(), input.data_ptr<float>() + input.numel(), array.values.begin());
-    FloatArray features = extractor->extract(array, torch::get_num_threads());
-    return torch::from_blob(features.values.data(), features.shape, torch::kFloat).clone();
-  };
-}
-
 template <typename T>
 std::vector<T> to_vector(const torch::Tensor& tensor) {
   const torch::Tensor contiguous = tensor.contiguous();
@@ -71,19 +105,17 @@ std::vector<T> to_vector(const torch::Tensor& tensor) {
 }  // namespace
 
 InputShape input_shape_of(const PreparedDataset& dataset) {
-  const auto& features = dataset.features.shape;
-  return {features[1] * dataset.description.channel_repeat, features[2], features[3],
-          dataset.segments.signals.shape[2]};
+  const auto& signals = dataset.segments.signals.shape;
+  const LogMelSettings& front_end = dataset.description.front_end;
+  return {signals[1] * dataset.description.channel_repeat, front_end.n_mels, front_end.frames(signals[2]), signals[2]};
 }
 
 SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule& schedule,
                            const std::vector<std::int64_t>& indices, int session) {
-  const torch::Tensor index = torch::tensor(indices, torch::kLong);
   SessionData data;
   data.session = session;
-  const int repeat = dataset.description.channel_repeat;
-  data.features = rows_of(dataset.features, index, repeat);
-  data.signals = rows_of(dataset.segments.signals, index, repeat);
+  data.features = feature_rows(dataset, indices);
+  data.signals = signal_rows(dataset, indices);
   data.labels = torch::tensor(schedule.labels_of(indices), torch::kLong);
   const SessionPlan& plan = schedule.plan;
   for (int c = plan.first_class_of(session); c < plan.seen_after(session); ++c) data.new_classes.push_back(c);
@@ -95,8 +127,6 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
                                          std::optional<double> inherited_base_seconds) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
-  const torch::Tensor test_index = torch::tensor(schedule.test, torch::kLong);
-  const torch::Tensor test_features = rows_of(dataset.features, test_index, dataset.description.channel_repeat);
   const torch::Tensor test_labels = torch::tensor(schedule.labels_of(schedule.test), torch::kLong);
   context.validation = &validation;
   context.total_classes = plan.total_classes();
@@ -125,11 +155,12 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
 
     Stopwatch test_clock;
     const torch::Tensor seen = (test_labels < outcome.seen_classes).nonzero().flatten();
-    const torch::Tensor features = test_features.index_select(0, seen);
+    std::vector<std::int64_t> seen_segments;
+    for (std::int64_t position : to_vector<std::int64_t>(seen)) seen_segments.push_back(schedule.test[position]);
+    const SampleRows features = feature_rows(dataset, seen_segments);
     std::vector<torch::Tensor> predictions, embeddings;
-    for (std::int64_t first = 0; first < features.size(0); first += kTestBatch) {
-      const torch::Tensor batch = features.narrow(0, first, std::min(kTestBatch, features.size(0) - first));
-      const torch::Tensor embedding = method.embed(batch);
+    for (std::int64_t first = 0; first < features.count(); first += kTestBatch) {
+      const torch::Tensor embedding = method.embed(features.range(first, std::min(kTestBatch, features.count() - first)));
       predictions.push_back(method.classify(embedding).argmax(1));
       if (!segment_contexts.empty()) {
         embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
@@ -142,7 +173,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       // Measured on unit-length embeddings: the cosine classifier only sees directions.
       const torch::Tensor all = torch::cat(embeddings);
       std::vector<int> contexts;
-      for (std::int64_t position : to_vector<std::int64_t>(seen)) contexts.push_back(segment_contexts[schedule.test[position]]);
+      for (std::int64_t segment : seen_segments) contexts.push_back(segment_contexts[segment]);
       const ContextDispersion dispersion =
           measure_context_dispersion(to_vector<float>(all), all.size(1), labels, contexts);
       outcome.context_ratio_mean = dispersion.mean;
@@ -168,8 +199,7 @@ InferenceTiming time_inference(Method& method, const PreparedDataset& dataset, c
                                std::int64_t batch, int repeats) {
   const std::vector<std::int64_t> first(schedule.test.begin(),
                                         schedule.test.begin() + std::min<std::int64_t>(batch, schedule.test.size()));
-  const torch::Tensor features =
-      rows_of(dataset.features, torch::tensor(first, torch::kLong), dataset.description.channel_repeat).contiguous();
+  const torch::Tensor features = feature_rows(dataset, first).all().contiguous();
   method.logits(features);
   std::vector<double> seconds;
   for (int r = 0; r < repeats; ++r) {

@@ -9,7 +9,8 @@
 
 namespace fscil {
 
-// The tensors of one schedule entry: features, raw signals and protocol labels of `indices`.
+// One schedule entry as a method sees it: features and raw signals of `indices` (gathered per
+// request, features computed then when the dataset keeps none), and their protocol labels.
 SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule& schedule,
                            const std::vector<std::int64_t>& indices, int session);
 

@@ -54,8 +54,11 @@ int main(int argc, char** argv) {
   app.add_option("--threads", run.threads, "compute threads (0 = all cores)")->capture_default_str();
   app.add_option("--out", run.out, "output directory for result files and tables")->capture_default_str();
   app.add_option("--data-root", run.data_root, "root folder of a real dataset download");
-  app.add_option("--cache-dir", run.cache_dir, "feature cache folder (default: ~/.cache/fscil-bench)");
-  app.add_flag("--no-cache", run.no_cache, "neither read nor write the feature cache");
+  app.add_option("--cache-dir", run.cache_dir, "segment cache folder (default: ~/.cache/fscil-bench)");
+  app.add_flag("--no-cache", run.no_cache, "neither read nor write the segment cache");
+  app.add_option("--features", run.features,
+                 "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the "
+                 "signals (auto: in memory up to 1 GiB)")->capture_default_str();
   app.add_option("--split-mode", run.split_mode, "recording (grouped, default) | segment")->capture_default_str();
   app.add_option("--class-order", run.class_order, "natural | shuffled (from the seed)")->capture_default_str();
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");

@@ -81,6 +81,7 @@ void run_benchmark(const RunOptions& options) {
   request.data_root = options.data_root;
   request.cache_dir = options.no_cache ? fs::path() : (options.cache_dir.empty() ? default_cache_dir() : fs::path(options.cache_dir));
   request.threads = threads;
+  request.features = parse_feature_storage(options.features);
   ParameterSet dataset_params = params;
   progress.stage(fmt::format("preparing dataset {}", options.dataset));
   Stopwatch dataset_clock;

@@ -14,6 +14,7 @@ struct RunOptions {
   std::string data_root;
   std::string cache_dir;  // empty = the user cache directory
   bool no_cache = false;
+  std::string features = "auto";  // auto | memory | on-demand (datasets/dataset_catalog.h)
   std::string split_mode = "recording";
   std::string class_order = "natural";
   std::vector<std::string> assignments;  // --set key=value

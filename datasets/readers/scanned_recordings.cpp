@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "datasets/dataset_error.h"
-#include "datasets/feature_cache.h"
+#include "datasets/segment_cache.h"
 
 namespace fscil {
 

@@ -8,16 +8,14 @@ namespace fscil {
 
 namespace F = torch::nn::functional;
 
-torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& features, std::int64_t batch_size) {
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size) {
   torch::NoGradGuard no_grad;
   const bool was_training = encoder->is_training();
   encoder->eval();
-  std::vector<torch::Tensor> parts;
-  for (std::int64_t first = 0; first < features.size(0); first += batch_size) {
-    parts.push_back(encoder->forward(features.narrow(0, first, std::min(batch_size, features.size(0) - first))));
-  }
+  const torch::Tensor embeddings =
+      map_batches(features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward(batch); });
   encoder->train(was_training);
-  return torch::cat(parts);
+  return embeddings;
 }
 
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,

@@ -5,11 +5,12 @@
 #include <vector>
 
 #include "methods/common/resnet18.h"
+#include "methods/sample_rows.h"
 
 namespace fscil {
 
 // Embeds in eval mode without gradients, in batches to bound memory; restores the train flag.
-torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const torch::Tensor& features, std::int64_t batch_size = 256);
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256);
 
 // Mean embedding per class, rows in the order of `classes`.
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,

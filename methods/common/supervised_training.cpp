@@ -41,7 +41,7 @@ void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSched
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase) {
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
-  const std::int64_t samples = data.features.size(0);
+  const std::int64_t samples = data.features.count();
   std::vector<std::int64_t> order(samples);
   double last_loss = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
@@ -54,7 +54,7 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
       const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
       if (size < 2) break;  // BatchNorm cannot train on a single sample
       const torch::Tensor index = torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
-      const torch::Tensor loss = batch_loss(data.features.index_select(0, index), data.labels.index_select(0, index));
+      const torch::Tensor loss = batch_loss(data.features.gather(index), data.labels.index_select(0, index));
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();

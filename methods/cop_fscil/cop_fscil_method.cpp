@@ -173,9 +173,9 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
     return;
   }
   check_session_order(support);
-  const torch::Tensor original = embed(support.features);
-  const torch::Tensor probes =
-      probe_embeddings(support.features, probes_per_support_sample(context.input), context.generator);
+  const torch::Tensor shots = support.features.all();
+  const torch::Tensor original = embed(shots);
+  const torch::Tensor probes = probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
   const torch::Tensor weights =
       stability_weights(probe_instability(original, probes), support.labels, cop_settings_.pspc_beta);
   const torch::Tensor new_means = calibrated_prototypes(original, probes, weights, support.labels, support.new_classes);

@@ -18,6 +18,9 @@ namespace F = torch::nn::functional;
 
 namespace {
 
+// Samples masked and encoded together: bounds the masked copies to one batch.
+constexpr std::int64_t kViewBatch = 256;
+
 torch::Tensor unit_rows(const torch::Tensor& x) { return F::normalize(x, F::NormalizeFuncOptions().dim(-1)); }
 
 // Two distinct views per sample, picked at random from the V cached ones: B x 2 x D.
@@ -85,18 +88,20 @@ void OrcoMethod::pretrain(const SessionData& base, RunContext& context) {
   encoder_->eval();
 }
 
-torch::Tensor OrcoMethod::encoded_views(const torch::Tensor& features, RunContext& context) {
+torch::Tensor OrcoMethod::encoded_views(const SampleRows& features, RunContext& context) {
   std::vector<torch::Tensor> views;
   for (int v = 0; v < settings_.views; ++v) {
-    views.push_back(embed_in_batches(
-        encoder_, masked_view(features, settings_.mask_time_fraction, settings_.mask_mel_fraction, context.generator)));
+    views.push_back(map_batches(features, kViewBatch, [&](const torch::Tensor& batch) {
+      return embed_in_batches(encoder_, masked_view(batch, settings_.mask_time_fraction, settings_.mask_mel_fraction,
+                                                    context.generator));
+    }));
   }
   return torch::stack(views, 1);
 }
 
 torch::Tensor OrcoMethod::project(const torch::Tensor& encodings) { return unit_rows(projector_->forward(encodings)); }
 
-void OrcoMethod::assign_classes(const torch::Tensor& features, const torch::Tensor& labels,
+void OrcoMethod::assign_classes(const SampleRows& features, const torch::Tensor& labels,
                                 const std::vector<std::int64_t>& classes) {
   if (classes.front() != static_cast<std::int64_t>(class_targets_.size())) {
     throw MethodError(fmt::format("classes start at {}, expected {}", classes.front(), class_targets_.size()));
@@ -189,7 +194,7 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
 void OrcoMethod::learn_session(const SessionData& support, RunContext& context) {
   phase_two_projector_.restore_into(*projector_);
   assign_classes(support.features, support.labels, support.new_classes);
-  memory_.keep_all(support.features, support.labels);
+  memory_.keep_all(support.features.all(), support.labels);
 
   // Contrast against perturbed copies of the incremental classes' targets and of the free ones.
   std::vector<std::int64_t> rows, labels;

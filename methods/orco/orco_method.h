@@ -43,9 +43,9 @@ class OrcoMethod : public Method {
 
   void pretrain(const SessionData& base, RunContext& context);
   // V masked views of every sample through the frozen encoder: N x V x D.
-  torch::Tensor encoded_views(const torch::Tensor& features, RunContext& context);
+  torch::Tensor encoded_views(const SampleRows& features, RunContext& context);
   torch::Tensor project(const torch::Tensor& encodings);
-  void assign_classes(const torch::Tensor& features, const torch::Tensor& labels,
+  void assign_classes(const SampleRows& features, const torch::Tensor& labels,
                       const std::vector<std::int64_t>& classes);
   std::vector<std::int64_t> free_target_rows() const;
   torch::Tensor seen_targets() const;

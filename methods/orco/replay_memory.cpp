@@ -4,7 +4,7 @@
 
 namespace fscil {
 
-void ReplayMemory::keep_base_exemplars(const torch::Tensor& features, const torch::Tensor& labels,
+void ReplayMemory::keep_base_exemplars(const SampleRows& features, const torch::Tensor& labels,
                                        std::int64_t base_classes, int per_class) {
   std::vector<std::int64_t> taken(static_cast<std::size_t>(base_classes), 0), rows;
   const auto label_values = labels.accessor<std::int64_t, 1>();
@@ -15,7 +15,7 @@ void ReplayMemory::keep_base_exemplars(const torch::Tensor& features, const torc
     rows.push_back(i);
   }
   const torch::Tensor index = torch::tensor(rows, torch::kLong);
-  keep_all(features.index_select(0, index), labels.index_select(0, index));
+  keep_all(features.gather(index), labels.index_select(0, index));
 }
 
 void ReplayMemory::keep_all(const torch::Tensor& features, const torch::Tensor& labels) {

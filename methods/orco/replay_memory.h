@@ -3,13 +3,15 @@
 
 #include <cstdint>
 
+#include "methods/sample_rows.h"
+
 namespace fscil {
 
 // The real old samples OrCo keeps: the first `per_class` samples of every base class (in the
 // order the session gives them) and every shot of every incremental session.
 class ReplayMemory {
  public:
-  void keep_base_exemplars(const torch::Tensor& features, const torch::Tensor& labels, std::int64_t base_classes,
+  void keep_base_exemplars(const SampleRows& features, const torch::Tensor& labels, std::int64_t base_classes,
                            int per_class);
   void keep_all(const torch::Tensor& features, const torch::Tensor& labels);
 

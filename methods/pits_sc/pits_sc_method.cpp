@@ -95,7 +95,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
 void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context) {
   std::vector<std::int64_t> classes(context.base_classes);
   std::iota(classes.begin(), classes.end(), 0);
-  stored_means_ = class_means(embed(base.features), base.labels, classes);
+  stored_means_ = class_means(embed_rows(base.features), base.labels, classes);
   classifier_->set_mu_rows(0, stored_means_);
   classifier_->set_mu_rows(context.base_classes,
                            torch::zeros({context.total_classes - context.base_classes, stored_means_.size(1)}));
@@ -117,7 +117,7 @@ void PitsScMethod::check_session_order(const SessionData& support) const {
 
 void PitsScMethod::learn_session(const SessionData& support, RunContext& /*context*/) {
   check_session_order(support);
-  const torch::Tensor embeddings = embed(support.features);  // encoder and bn0 frozen
+  const torch::Tensor embeddings = embed_rows(support.features);  // encoder and bn0 frozen
   const torch::Tensor new_means = class_means(embeddings, support.labels, support.new_classes);
   classifier_->set_mu_rows(seen_classes_, new_means);
   seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());

@@ -69,7 +69,7 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
     kept_index.insert(kept_index.end(), picked.begin(), picked.end());
   }
   const torch::Tensor kept = torch::tensor(kept_index);
-  episode.kept_features = base_.features.index_select(0, kept);
+  episode.kept_features = base_.features.gather(kept);
   episode.kept_labels = base_.labels.index_select(0, kept);
 
   episode.lambda = sample_beta(settings_.pit_alpha, settings_.pit_alpha, generator);
@@ -82,8 +82,8 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
     first_index.insert(first_index.end(), first.begin(), first.end());
     second_index.insert(second_index.end(), second.begin(), second.end());
   }
-  episode.mixed_signals = episode.lambda * base_.signals.index_select(0, torch::tensor(first_index)) +
-                          (1 - episode.lambda) * base_.signals.index_select(0, torch::tensor(second_index));
+  episode.mixed_signals = episode.lambda * base_.signals.gather(torch::tensor(first_index)) +
+                          (1 - episode.lambda) * base_.signals.gather(torch::tensor(second_index));
   episode.mixed_features = front_end(episode.mixed_signals);
 
   std::vector<std::int64_t> rows(total_classes_ - base_classes_);

@@ -8,7 +8,7 @@
 
 #include "datasets/dataset_catalog.h"
 #include "datasets/dataset_error.h"
-#include "datasets/feature_cache.h"
+#include "datasets/segment_cache.h"
 #include "protocols/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/datasets/prepare_from_root.h"

@@ -52,7 +52,7 @@ struct AfterSession {
 };
 AfterSession learn(Trained& trained, const SessionData& support) {
   trained.method->learn_session(support, trained.context);
-  return {as_cop(*trained.method).classifier()->mu.detach(), trained.method->embed(support.features)};
+  return {as_cop(*trained.method).classifier()->mu.detach(), trained.method->embed(support.features.all())};
 }
 
 TEST(CopFscilVariants, AblationRunsPitsScPlusTheFourAndAllIncludesThem) {

@@ -66,7 +66,7 @@ TEST(Orco, ReplayMemoryHoldsTheFirstFiveOfEachBaseClassThenEveryShot) {
   torch::manual_seed(3);
   const SessionData same_base = tiny_base();  // the features train() saw (same torch seed)
   for (std::int64_t c = 0; c < 6; ++c) {
-    EXPECT_TRUE(torch::equal(memory.features().slice(0, 5 * c, 5 * c + 5), same_base.features.slice(0, 25 * c, 25 * c + 5)))
+    EXPECT_TRUE(torch::equal(memory.features().slice(0, 5 * c, 5 * c + 5), same_base.features.all().slice(0, 25 * c, 25 * c + 5)))
         << "class " << c;
     EXPECT_TRUE(torch::all(memory.labels().slice(0, 5 * c, 5 * c + 5) == c).item<bool>());
   }
@@ -77,8 +77,8 @@ TEST(Orco, ReplayMemoryHoldsTheFirstFiveOfEachBaseClassThenEveryShot) {
   trained.method->learn_session(first, trained.context);
   trained.method->learn_session(second, trained.context);
   EXPECT_EQ(memory.samples(), 30 + 10 + 10);
-  EXPECT_TRUE(torch::equal(memory.features().slice(0, 30, 40), first.features));
-  EXPECT_TRUE(torch::equal(memory.features().slice(0, 40, 50), second.features));
+  EXPECT_TRUE(torch::equal(memory.features().slice(0, 30, 40), first.features.all()));
+  EXPECT_TRUE(torch::equal(memory.features().slice(0, 40, 50), second.features.all()));
   const ReplayFootprint footprint = trained.method->replay_footprint();
   EXPECT_EQ(footprint.samples, 50);
   EXPECT_EQ(footprint.bytes, 50 * bytes_per_sample);

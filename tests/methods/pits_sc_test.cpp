@@ -193,7 +193,7 @@ TEST_F(TinyPitsSc, SessionLeavesTheEncoderUnchangedAndSetsNewRowsToSupportMeans)
   // With no fine-tuning steps old rows stay put and new rows are the mean support embeddings.
   const torch::Tensor mu = method->classifier()->mu.detach();
   EXPECT_TRUE(torch::equal(mu.narrow(0, 0, 6), mu_before.narrow(0, 0, 6)));
-  const torch::Tensor embeddings = method->embed(first.features);
+  const torch::Tensor embeddings = method->embed(first.features.all());
   EXPECT_TRUE(torch::allclose(mu[6], embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
   EXPECT_TRUE(torch::allclose(mu[7], embeddings.narrow(0, 5, 5).mean(0), 1e-5, 1e-6));
   EXPECT_EQ(method->classify(embeddings).size(1), 8);

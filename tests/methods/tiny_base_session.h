@@ -11,9 +11,10 @@ inline SessionData tiny_base() {
   SessionData base;
   const std::int64_t n = 6 * 25, length = 16;
   base.labels = torch::div(torch::arange(n), 25, "floor");
-  base.signals = torch::zeros({n, 2, length});
-  base.signals.select(1, 0).copy_(base.labels.to(torch::kFloat).view({n, 1}).expand({n, length}));
-  base.signals.select(1, 1).copy_(torch::arange(n).to(torch::kFloat).view({n, 1}).expand({n, length}));
+  const torch::Tensor signals = torch::zeros({n, 2, length});
+  signals.select(1, 0).copy_(base.labels.to(torch::kFloat).view({n, 1}).expand({n, length}));
+  signals.select(1, 1).copy_(torch::arange(n).to(torch::kFloat).view({n, 1}).expand({n, length}));
+  base.signals = signals;
   base.features = torch::randn({n, 2, 4, 4});
   for (std::int64_t c = 0; c < 6; ++c) base.new_classes.push_back(c);
   return base;

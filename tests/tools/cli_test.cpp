@@ -64,6 +64,8 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
                         "--set no_such_knob");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --set pretrain_epochs=many" + common),
                         "pretrain_epochs='many': expected an integer");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --features disk" + common),
+                        "feature storage 'disk': expected auto, memory or on-demand");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "summary.csv"));
 }
 
@@ -140,6 +142,18 @@ TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   std::ifstream record(together.path() / file);
   EXPECT_NE(std::string(std::istreambuf_iterator<char>(record), {}).find("\"base_training\": \"shared with cop-fscil/cpi+pcqa\""),
             std::string::npos);
+}
+
+TEST(Cli, FeaturesComputedOnDemandGiveTheAccuraciesOfFeaturesKeptInMemory) {
+  TemporaryDirectory in_memory, on_demand;
+  // pits-sc reads features by batch, the validation split and raw signals for its mixtures.
+  const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  ASSERT_EQ(run_cli(common + " --features memory --out " + in_memory.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli(common + " --features on-demand --out " + on_demand.path().string()).exit_code, 0);
+  const auto file = std::filesystem::path("results") / "pits-sc__simtex-mini__seed1.json";
+  const std::string kept = accuracies_in(in_memory.path() / file);
+  EXPECT_EQ(std::count(kept.begin(), kept.end(), ':'), 3);
+  EXPECT_EQ(kept, accuracies_in(on_demand.path() / file));
 }
 
 TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
@@ -236,6 +250,14 @@ TEST_F(RealDatasetSmokeRun, Haptex) {
 TEST_F(RealDatasetSmokeRun, Ls100) {
   write_ls100_fixture(data.path(), {});
   const CommandResult result = run("ls100", "--set base_classes=2 --set way=1 --set sessions=3");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("32 segments of shape 3x128x178"), std::string::npos) << result.output;
+  expect_all_correct(accuracies("ls100"), 3);
+}
+
+TEST_F(RealDatasetSmokeRun, Ls100WithFeaturesOnDemand) {
+  write_ls100_fixture(data.path(), {});  // mono audio: the channel repeat applies to computed batches too
+  const CommandResult result = run("ls100", "--set base_classes=2 --set way=1 --set sessions=3 --features on-demand");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("32 segments of shape 3x128x178"), std::string::npos) << result.output;
   expect_all_correct(accuracies("ls100"), 3);

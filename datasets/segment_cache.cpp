@@ -1,4 +1,4 @@
-#include "datasets/feature_cache.h"
+#include "datasets/segment_cache.h"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 namespace fscil {
 
 namespace {
-constexpr int kCacheFormat = 1;
+constexpr int kCacheFormat = 2;  // 2: segments only, no features
 
 std::vector<std::int32_t> to_int32(const std::vector<int>& values) { return {values.begin(), values.end()}; }
 std::vector<int> to_int(const std::vector<std::int32_t>& values) { return {values.begin(), values.end()}; }
@@ -33,30 +33,25 @@ std::string stable_hash(const std::string& text) {
   return fmt::format("{:016x}", hash);
 }
 
-std::string FeatureCache::key_for(const DatasetDescription& d) {
-  return stable_hash(fmt::format("format={}|name={}|source={}|segment={},{},{}|front_end={}", kCacheFormat,
-                                 d.name, d.source, d.segment.length, d.segment.hop,
-                                 d.segment.max_per_recording, d.front_end.describe()));
+std::string SegmentCache::key_for(const DatasetDescription& d) {
+  return stable_hash(fmt::format("format={}|name={}|source={}|segment={},{},{}", kCacheFormat, d.name, d.source,
+                                 d.segment.length, d.segment.hop, d.segment.max_per_recording));
 }
 
-std::filesystem::path FeatureCache::path_for(const DatasetDescription& description) const {
+std::filesystem::path SegmentCache::path_for(const DatasetDescription& description) const {
   return directory_ / fmt::format("{}-{}.h5", description.name, key_for(description));
 }
 
-std::optional<PreparedDataset> FeatureCache::load(const DatasetDescription& description, std::string* problem) const {
+std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& description, std::string* problem) const {
   const auto path = path_for(description);
   if (!std::filesystem::exists(path)) return std::nullopt;
   try {
-    PreparedDataset dataset;
-    dataset.description = description;
-    dataset.cache_key = key_for(description);
     const auto meta = nlohmann::json::parse(read_hdf5_text(path, "meta"));
-    if (meta.at("key").get<std::string>() != dataset.cache_key) {
+    if (meta.at("key").get<std::string>() != key_for(description)) {
       throw DatasetError(fmt::format("{}: cache key mismatch", path.string()));
     }
-    SegmentSet& s = dataset.segments;
+    SegmentSet s;
     s.signals = read_hdf5_floats(path, "signals", 3);
-    dataset.features = read_hdf5_floats(path, "features", 4);
     s.class_index = to_int(read_hdf5_integers(path, "class_index"));
     s.group_index = to_int(read_hdf5_integers(path, "group_index"));
     s.recording_index = to_int(read_hdf5_integers(path, "recording_index"));
@@ -65,35 +60,33 @@ std::optional<PreparedDataset> FeatureCache::load(const DatasetDescription& desc
     s.context_names = meta.at("context_names").get<std::vector<std::string>>();
     const FloatArray context = read_hdf5_floats(path, "context_values", 1);
     s.context_values.assign(context.values.begin(), context.values.end());
-    if (s.signals.shape[0] != s.count() || dataset.features.shape[0] != s.count()) {
+    if (s.signals.shape[0] != s.count()) {
       throw DatasetError(fmt::format("{}: segment counts disagree between datasets", path.string()));
     }
-    return dataset;
+    return s;
   } catch (const std::exception& error) {
     if (problem != nullptr) *problem = error.what();
     return std::nullopt;
   }
 }
 
-void FeatureCache::store(const PreparedDataset& dataset) const {
-  const SegmentSet& s = dataset.segments;
+void SegmentCache::store(const DatasetDescription& description, const SegmentSet& s) const {
   Hdf5Contents contents;
   FloatArray context({static_cast<std::int64_t>(s.context_values.size())});
   std::copy(s.context_values.begin(), s.context_values.end(), context.values.begin());
   contents.floats["signals"] = &s.signals;
-  contents.floats["features"] = &dataset.features;
   contents.floats["context_values"] = &context;
   contents.integers["class_index"] = to_int32(s.class_index);
   contents.integers["group_index"] = to_int32(s.group_index);
   contents.integers["recording_index"] = to_int32(s.recording_index);
   std::vector<int> splits;
   for (SplitHint hint : s.recording_split) splits.push_back(split_code(hint));
-  nlohmann::json meta = {{"key", key_for(dataset.description)},
+  nlohmann::json meta = {{"key", key_for(description)},
                          {"recording_ids", s.recording_ids},
                          {"recording_split", splits},
                          {"context_names", s.context_names}};
   contents.texts["meta"] = meta.dump();
-  write_hdf5_atomically(path_for(dataset.description), contents);
+  write_hdf5_atomically(path_for(description), contents);
 }
 
 }  // namespace fscil

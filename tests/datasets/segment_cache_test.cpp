@@ -1,4 +1,4 @@
-#include "datasets/feature_cache.h"
+#include "datasets/segment_cache.h"
 
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include "datasets/dataset_catalog.h"
 #include "datasets/dataset_error.h"
 #include "datasets/hdf5_file.h"
+#include "datasets/log_mel_extractor.h"
 #include "protocols/parameter_set.h"
 #include "tests/temporary_directory.h"
 
@@ -30,7 +31,7 @@ class CachedSimtexMini : public ::testing::Test {
 };
 
 TEST_F(CachedSimtexMini, SecondLoadComesFromTheCacheAndEqualsTheFirst) {
-  const FeatureCache cache(directory.path());
+  const SegmentCache cache(directory.path());
   ASSERT_TRUE(std::filesystem::exists(cache.path_for(built.description)));
   const PreparedDataset loaded = prepare();
   EXPECT_EQ(loaded.features.shape, (std::vector<std::int64_t>{600, 5, 64, 24}));
@@ -45,38 +46,50 @@ TEST_F(CachedSimtexMini, SecondLoadComesFromTheCacheAndEqualsTheFirst) {
   }
 }
 
-TEST(FeatureCache, EveryShapingParameterChangesTheKey) {
+TEST(SegmentCache, EverySegmentShapingParameterChangesTheKeyAndTheFrontEndDoesNot) {
   DatasetDescription description;
   description.name = "simtex-mini";
   description.source = "simtex seed=1";
   description.segment = {500, 500, 0};
   description.front_end = log_mel_preset("haptex");
-  const std::string key = FeatureCache::key_for(description);
+  const std::string key = SegmentCache::key_for(description);
   auto changed = description;
   changed.source = "simtex seed=2";
-  EXPECT_NE(FeatureCache::key_for(changed), key);
+  EXPECT_NE(SegmentCache::key_for(changed), key);
   changed = description;
   changed.segment.hop = 250;
-  EXPECT_NE(FeatureCache::key_for(changed), key);
+  EXPECT_NE(SegmentCache::key_for(changed), key);
   changed = description;
-  changed.front_end.scale = MelScale::slaney;
-  EXPECT_NE(FeatureCache::key_for(changed), key);
+  changed.segment.length = 250;
+  EXPECT_NE(SegmentCache::key_for(changed), key);
   changed = description;
+  changed.front_end.scale = MelScale::slaney;  // features are recomputed from the cached segments
   changed.front_end.n_mels = 32;
-  EXPECT_NE(FeatureCache::key_for(changed), key);
-  EXPECT_EQ(FeatureCache::key_for(description), key);
+  EXPECT_EQ(SegmentCache::key_for(changed), key);
+}
+
+TEST_F(CachedSimtexMini, FeaturesOnDemandAreLeftToTheRunAndEqualTheStoredOnes) {
+  request.features = FeatureStorage::on_demand;
+  const PreparedDataset on_demand = prepare();
+  EXPECT_TRUE(on_demand.features_on_demand());
+  EXPECT_FALSE(built.features_on_demand());
+  EXPECT_EQ(on_demand.segments.signals.values, built.segments.signals.values);
+  const LogMelExtractor extractor(on_demand.description.front_end);
+  EXPECT_EQ(extractor.extract(on_demand.segments.signals).values, built.features.values);
+  EXPECT_THROW(parse_feature_storage("disk"), DatasetError);
+  EXPECT_EQ(parse_feature_storage("on-demand"), FeatureStorage::on_demand);
 }
 
 TEST_F(CachedSimtexMini, ACorruptFileIsReportedAndRebuiltNeverTrusted) {
-  const auto path = FeatureCache(directory.path()).path_for(built.description);
+  const auto path = SegmentCache(directory.path()).path_for(built.description);
   std::filesystem::resize_file(path, std::filesystem::file_size(path) / 2);
   std::string problem;
-  EXPECT_FALSE(FeatureCache(directory.path()).load(built.description, &problem).has_value());
+  EXPECT_FALSE(SegmentCache(directory.path()).load(built.description, &problem).has_value());
   EXPECT_NE(problem.find(path.string()), std::string::npos);
   const PreparedDataset rebuilt = prepare();
   EXPECT_EQ(rebuilt.features.values, built.features.values);
   EXPECT_NE(log.str().find("ignoring unreadable cache file"), std::string::npos);
-  EXPECT_TRUE(FeatureCache(directory.path()).load(built.description).has_value());
+  EXPECT_TRUE(SegmentCache(directory.path()).load(built.description).has_value());
 }
 
 TEST(Hdf5File, ReadersNameTheFileAndWhatWasExpected) {
