@@ -13,7 +13,7 @@ namespace fscil {
 
 namespace {
 SeedStatistic statistic_of(const std::vector<double>& values) {
-  return {mean_of(values), standard_deviation_of(values)};
+  return {mean_of(values), standard_deviation_of(values), confidence_half_width_95(values)};
 }
 }  // namespace
 

@@ -7,10 +7,12 @@
 
 namespace fscil {
 
-// A mean over seeds with its sample standard deviation.
+// A mean over seeds with its sample standard deviation and the half-width of its 95% confidence
+// interval (Student t with seeds - 1 degrees of freedom): the mean is in [mean - ci95, mean + ci95].
 struct SeedStatistic {
   double mean = 0;
   double std = 0;
+  double ci95 = 0;
 };
 
 // One (method, dataset) row: per-session accuracy and AA/PD/ADR over its seeds. AA/PD/ADR are

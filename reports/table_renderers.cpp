@@ -60,10 +60,13 @@ bool is_best(const Column& column, const SummaryRow& row, const std::vector<cons
   return true;
 }
 
-std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus_minus) {
+// mean, or over several seeds "mean ± std [95% CI]"; `interval` wraps the bracketed interval.
+std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus_minus,
+                 const char* interval = "[{:.2f}, {:.2f}]") {
   if (statistic == nullptr) return "";
   if (!with_std) return fmt::format("{:.2f}", statistic->mean);
-  return fmt::format("{:.2f}{}{:.2f}", statistic->mean, plus_minus, statistic->std);
+  return fmt::format("{:.2f}{}{:.2f} ", statistic->mean, plus_minus, statistic->std) +
+         fmt::format(fmt::runtime(interval), statistic->mean - statistic->ci95, statistic->mean + statistic->ci95);
 }
 
 }  // namespace
@@ -78,6 +81,8 @@ std::string render_csv(const SummaryTable& table) {
   if (with_std) {
     out += ",AA_std,PD_std,ADR_std";
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}_std", s);
+    out += ",AA_ci95,PD_ci95,ADR_ci95";
+    for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}_ci95", s);
   }
   out += "\n";
   for (const auto* row : all) {
@@ -91,6 +96,11 @@ std::string render_csv(const SummaryTable& table) {
                          row->average_drop_rate.std);
       for (std::size_t s = 0; s < sessions; ++s) {
         out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].std) : ",";
+      }
+      out += fmt::format(",{:.4f},{:.4f},{:.4f}", row->average_accuracy.ci95, row->performance_drop.ci95,
+                         row->average_drop_rate.ci95);
+      for (std::size_t s = 0; s < sessions; ++s) {
+        out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].ci95) : ",";
       }
     }
     out += "\n";
@@ -107,7 +117,7 @@ std::string render_latex(const SummaryTable& table) {
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
     out += fmt::format("\\caption{{Comparison on {}{}.}}\n", dataset,
-                       with_std ? " (mean $\\pm$ std over seeds)" : "");
+                       with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
     out += fmt::format("\\begin{{tabular}}{{l{}ccc}}\n\\toprule\n", std::string(sessions, 'c'));
     out += fmt::format("\\multirow{{2}}{{*}}{{Method}} & \\multicolumn{{{}}}{{c}}{{Accuracy in each session $\\uparrow$}}"
                        " & \\multirow{{2}}{{*}}{{PD$\\downarrow$}} & \\multirow{{2}}{{*}}{{AA$\\uparrow$}}"
@@ -119,7 +129,7 @@ std::string render_latex(const SummaryTable& table) {
     for (const auto* row : rows) {
       out += row->method;
       for (const auto& column : columns) {
-        const std::string text = cell(column.value(*row), with_std, "$\\pm$");
+        const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
         out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
       }
       out += " \\\\\n";
@@ -135,7 +145,7 @@ std::string render_markdown(const SummaryTable& table) {
   for (const auto& dataset : table.datasets()) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
-    out += fmt::format("### {}{}\n\n| method |", dataset, with_std ? " (mean ± std over seeds)" : "");
+    out += fmt::format("### {}{}\n\n| method |", dataset, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
     for (const auto& column : columns) out += fmt::format(" {} |", column.title);
     out += "\n|---|";
     for (std::size_t c = 0; c < columns.size(); ++c) out += "---:|";

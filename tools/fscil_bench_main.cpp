@@ -12,6 +12,7 @@
 #include "reports/context_analysis.h"
 #include "reports/run_record.h"
 #include "tools/logmel_command.h"
+#include "tools/reference_command.h"
 #include "tools/report_writer.h"
 #include "tools/run_command.h"
 
@@ -91,6 +92,20 @@ int main(int argc, char** argv) {
   analyze->add_option("--results", analyze_results, "directory holding result JSON files")->required();
   analyze->add_option("--out", analyze_out, "where to write context_analysis.csv (default: the results directory)");
 
+  std::string check_results, check_reference_file;
+  auto* check = app.add_subcommand("check", "Compare result files with stored reference numbers (exit 1 on any drift)");
+  check->add_option("--results", check_results, "directory holding result JSON files")->required();
+  check->add_option("--reference", check_reference_file, "reference CSV (e.g. reports/reference/simtex-mini-smoke.csv)")
+      ->required();
+
+  std::string reference_results, reference_out;
+  double reference_tolerance = 2.0;
+  auto* reference = app.add_subcommand("reference", "Write reference numbers from result files (for check)");
+  reference->add_option("--results", reference_results, "directory holding result JSON files")->required();
+  reference->add_option("--out", reference_out, "reference CSV to write")->required();
+  reference->add_option("--tolerance", reference_tolerance, "two-sided tolerance of every value, percentage points")
+      ->capture_default_str();
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (list->parsed()) {
@@ -101,6 +116,10 @@ int main(int argc, char** argv) {
       rebuild_reports(results_dir, report_out);
     } else if (analyze->parsed()) {
       analyze_contexts(analyze_results, analyze_out);
+    } else if (check->parsed()) {
+      return fscil::check_reference(check_results, check_reference_file);
+    } else if (reference->parsed()) {
+      fscil::write_reference(reference_results, reference_out, reference_tolerance);
     } else {
       if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");

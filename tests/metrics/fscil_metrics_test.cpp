@@ -1,4 +1,5 @@
 #include "metrics/fscil_metrics.h"
+#include "metrics/statistics.h"
 
 #include <gtest/gtest.h>
 
@@ -61,6 +62,18 @@ TEST(FscilMetrics, PaperTablesCoverEveryDatasetAndTheAblations) {
   for (const auto& row : rows) ++per_table[row.table];
   EXPECT_EQ(per_table, (std::map<std::string, int>{{"ablation_haptex", 5}, {"ablation_lmt108", 5}, {"results_haptex", 9},
                                                    {"results_lmt108", 9}, {"results_ls100", 9}, {"results_ns100", 9}}));
+}
+
+TEST(Statistics, StudentTQuantilesAndConfidenceIntervals) {
+  EXPECT_NEAR(student_t_975(1), 12.706, 1e-3);
+  EXPECT_NEAR(student_t_975(4), 2.776, 1e-3);
+  EXPECT_NEAR(student_t_975(30), 2.042, 1e-3);
+  EXPECT_NEAR(student_t_975(40), 2.021, 1e-3);   // beyond the table: the expansion
+  EXPECT_NEAR(student_t_975(120), 1.980, 1e-3);
+  EXPECT_NEAR(student_t_975(100000), 1.960, 1e-3);
+  // Five seeds 1..5: mean 3, s = sqrt(2.5), half-width 2.776 x 1.5811 / 2.2361 = 1.9632.
+  EXPECT_NEAR(confidence_half_width_95({1, 2, 3, 4, 5}), 1.9632, 1e-4);
+  EXPECT_EQ(confidence_half_width_95({7}), 0.0);
 }
 
 TEST(SessionAccuracy, SplitsBaseNovelAndCurrentClasses) {

@@ -92,6 +92,9 @@ TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
   EXPECT_EQ(prototype.seeds, (std::vector<std::uint64_t>{1, 2}));
   EXPECT_DOUBLE_EQ(prototype.session_accuracy[0].mean, 85.0);
   EXPECT_NEAR(prototype.session_accuracy[0].std, std::sqrt(50.0), 1e-12);
+  // Two seeds: t_{0.975, 1} = 12.706 times s / sqrt(2) = 12.706 x 5.
+  EXPECT_NEAR(prototype.session_accuracy[0].ci95, 12.7062 * 5.0, 1e-9);
+  EXPECT_EQ(table.rows[1].session_accuracy[0].ci95, 0.0);  // one seed: no interval
   EXPECT_DOUBLE_EQ(prototype.average_accuracy.mean, (80.0 + 220.0 / 3) / 2);
   EXPECT_DOUBLE_EQ(prototype.performance_drop.mean, 20.0);
   const double adr_seed1 = 50.0 * (10.0 / 90 + 10.0 / 80), adr_seed2 = 50.0 * (0.0 + 20.0 / 80);
@@ -101,10 +104,12 @@ TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
   EXPECT_THROW(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {90, 80, 70})}), ReportError);
 }
 
-TEST(SummaryTable, CsvHoldsMeansAndStdColumns) {
+TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std");
+  EXPECT_EQ(header, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std,"
+                    "AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95");
+  EXPECT_NE(csv.find(",63.5310,63.5310\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
   EXPECT_NE(csv.find("prototype,simtex,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
   EXPECT_EQ(single, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1\nprototype,simtex,1,85.0000,10.0000,11.1111,90.0000,80.0000\n");

@@ -1,4 +1,5 @@
 // Runs the fscil-bench executable as a user would and checks exit codes, messages and files.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -142,6 +143,46 @@ TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   std::ifstream record(together.path() / file);
   EXPECT_NE(std::string(std::istreambuf_iterator<char>(record), {}).find("\"base_training\": \"shared with cop-fscil/cpi+pcqa\""),
             std::string::npos);
+}
+
+TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) {
+  TemporaryDirectory first, second, other;
+  // cop-fscil draws from every source: splits, shots, CutMix, episodes, probes, initialisation.
+  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  ASSERT_EQ(run_cli(common + " --seeds 3 --out " + first.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli(common + " --seeds 3 --out " + second.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli(common + " --seeds 4 --out " + other.path().string()).exit_code, 0);
+  const auto file = [](std::uint64_t seed) {
+    return std::filesystem::path("results") / fmt::format("cop-fscil__simtex-mini__seed{}.json", seed);
+  };
+  const std::string once = accuracies_in(first.path() / file(3));
+  EXPECT_EQ(std::count(once.begin(), once.end(), ':'), 3);
+  EXPECT_EQ(once, accuracies_in(second.path() / file(3)));
+  EXPECT_NE(once, accuracies_in(other.path() / file(4)));
+}
+
+TEST(Cli, CheckComparesResultsWithReferenceNumbersBothWays) {
+  TemporaryDirectory out;
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out " +
+                    out.path().string()).exit_code, 0);
+  const std::string reference = (out.path() / "reference.csv").string();
+  ASSERT_EQ(run_cli("reference --results " + out.path().string() + " --out " + reference).exit_code, 0);
+  const CommandResult same = run_cli("check --results " + out.path().string() + " --reference " + reference);
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_NE(same.output.find("all 6 reference values"), std::string::npos) << same.output;
+  // Nudge one stored value up: the unchanged run now looks like a loss beyond tolerance.
+  std::ifstream in(reference);
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  const auto at = text.find(",acc_1,");
+  const auto value_end = text.find(',', at + 7);
+  const double stored = std::stod(text.substr(at + 7, value_end - at - 7));
+  text.replace(at + 7, value_end - at - 7, fmt::format("{:.4f}", stored + 5));
+  std::ofstream(reference) << text;
+  const CommandResult drifted = run_cli("check --results " + out.path().string() + " --reference " + reference);
+  EXPECT_EQ(drifted.exit_code, 1);
+  EXPECT_NE(drifted.output.find(fmt::format("FAIL prototype on simtex-mini seed 1 acc_1: expected {:.2f} +- 2.00, got {:.2f} (-5.00)",
+                                            stored + 5, stored)), std::string::npos) << drifted.output;
+  EXPECT_NE(drifted.output.find("regenerate with: bash tools/reference_protocol.sh regenerate"), std::string::npos);
 }
 
 TEST(Cli, FeaturesComputedOnDemandGiveTheAccuraciesOfFeaturesKeptInMemory) {

@@ -1,0 +1,152 @@
+#include "reports/reference_numbers.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "metrics/fscil_metrics.h"
+#include "reports/report_error.h"
+
+namespace fscil {
+
+namespace {
+
+constexpr const char* kHeader = "method,dataset,profile,seed,threads,metric,expected,tolerance";
+
+// metric name -> value of one run.
+std::vector<std::pair<std::string, double>> metrics_of(const RunRecord& record) {
+  const auto accuracies = record.session_accuracies();
+  std::vector<std::pair<std::string, double>> metrics;
+  for (std::size_t s = 0; s < accuracies.size(); ++s) metrics.emplace_back(fmt::format("acc_{}", s), accuracies[s]);
+  const FscilSummary summary = summarize_sessions(accuracies);
+  metrics.emplace_back("AA", summary.average_accuracy);
+  metrics.emplace_back("PD", summary.performance_drop);
+  metrics.emplace_back("ADR", summary.average_drop_rate);
+  return metrics;
+}
+
+std::vector<std::string> split_fields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::stringstream stream(line);
+  for (std::string field; std::getline(stream, field, ',');) fields.push_back(field);
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+double parse_number(const std::string& text, const std::string& where) {
+  std::size_t used = 0;
+  double value = 0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || text.empty() || !std::isfinite(value)) {
+    throw ReportError(fmt::format("{}: '{}' is not a finite number", where, text));
+  }
+  return value;
+}
+
+}  // namespace
+
+std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance) {
+  std::vector<ReferenceValue> values;
+  for (const auto& record : records) {
+    for (const auto& [metric, value] : metrics_of(record)) {
+      values.push_back({record.method, record.dataset, record.profile, record.seed, record.threads, metric, value,
+                        tolerance});
+    }
+  }
+  return values;
+}
+
+std::string render_reference_csv(const std::vector<ReferenceValue>& values, const std::string& regenerate_command) {
+  std::string out = fmt::format(
+      "# fscil-bench reference numbers: session accuracies and AA/PD/ADR in percentage points.\n"
+      "# A run passes when every value is within expected +- tolerance (two-sided).\n"
+      "# Regenerate (never in CI): {}\n{}\n",
+      regenerate_command, kHeader);
+  for (const auto& v : values) {
+    out += fmt::format("{},{},{},{},{},{},{:.4f},{:.4f}\n", v.method, v.dataset, v.profile, v.seed, v.threads, v.metric,
+                       v.expected, v.tolerance);
+  }
+  return out;
+}
+
+std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw ReportError(fmt::format("{}: cannot read the reference file", path.string()));
+  std::vector<ReferenceValue> values;
+  bool header_seen = false;
+  int line_number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    const std::string where = fmt::format("{}:{}", path.string(), line_number);
+    if (!header_seen) {
+      if (line != kHeader) throw ReportError(fmt::format("{}: header '{}', expected '{}'", where, line, kHeader));
+      header_seen = true;
+      continue;
+    }
+    const auto fields = split_fields(line);
+    if (fields.size() != 8) {
+      throw ReportError(fmt::format("{}: {} fields, expected 8 ({})", where, fields.size(), kHeader));
+    }
+    ReferenceValue value{fields[0], fields[1], fields[2], 0, 0, fields[5], 0, 0};
+    value.seed = static_cast<std::uint64_t>(parse_number(fields[3], where + " seed"));
+    value.threads = static_cast<int>(parse_number(fields[4], where + " threads"));
+    value.expected = parse_number(fields[6], where + " expected");
+    value.tolerance = parse_number(fields[7], where + " tolerance");
+    if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));
+    values.push_back(std::move(value));
+  }
+  if (values.empty()) throw ReportError(fmt::format("{}: no reference values", path.string()));
+  return values;
+}
+
+ReferenceCheck check_against_reference(const std::vector<RunRecord>& records,
+                                       const std::vector<ReferenceValue>& reference) {
+  std::map<std::tuple<std::string, std::string, std::uint64_t>, const RunRecord*> runs;
+  for (const auto& record : records) runs[{record.method, record.dataset, record.seed}] = &record;
+  ReferenceCheck check;
+  std::map<const RunRecord*, std::map<std::string, double>> metrics;
+  std::set<std::string> unusable_runs;  // reported once, not once per value
+  for (const auto& expected : reference) {
+    const auto found = runs.find({expected.method, expected.dataset, expected.seed});
+    const std::string run_name = fmt::format("{} on {} seed {}", expected.method, expected.dataset, expected.seed);
+    if (unusable_runs.count(run_name) > 0) continue;
+    if (found == runs.end()) {
+      check.failures.push_back(fmt::format("{}: no result file for this run", run_name));
+      unusable_runs.insert(run_name);
+      continue;
+    }
+    const RunRecord& run = *found->second;
+    if (run.profile != expected.profile || run.threads != expected.threads) {
+      check.failures.push_back(fmt::format("{}: ran with profile {} and {} threads, the reference with {} and {}",
+                                           run_name, run.profile, run.threads, expected.profile, expected.threads));
+      unusable_runs.insert(run_name);
+      continue;
+    }
+    auto& values = metrics[&run];
+    if (values.empty()) {
+      for (const auto& [metric, value] : metrics_of(run)) values[metric] = value;
+    }
+    ++check.values_checked;
+    const auto got = values.find(expected.metric);
+    if (got == values.end()) {
+      check.failures.push_back(fmt::format("{} {}: expected {:.2f}, the run has no such value", run_name,
+                                           expected.metric, expected.expected));
+    } else if (std::abs(got->second - expected.expected) > expected.tolerance + 1e-9) {
+      check.failures.push_back(fmt::format("{} {}: expected {:.2f} +- {:.2f}, got {:.2f} ({:+.2f})", run_name,
+                                           expected.metric, expected.expected, expected.tolerance, got->second,
+                                           got->second - expected.expected));
+    }
+  }
+  return check;
+}
+
+}  // namespace fscil

@@ -1,0 +1,42 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "reports/run_record.h"
+
+namespace fscil {
+
+// One expected value of one run: a session accuracy (acc_0, acc_1, ...) or AA, PD, ADR, in
+// percentage points, with the two-sided tolerance it must stay within (a gain is as suspicious
+// as a loss).
+struct ReferenceValue {
+  std::string method;
+  std::string dataset;
+  std::string profile;
+  std::uint64_t seed = 0;
+  int threads = 0;
+  std::string metric;
+  double expected = 0;
+  double tolerance = 0;
+};
+
+// Every value of every run in `records`, each with `tolerance`.
+std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance);
+
+// CSV with a comment header saying how it was made and how to regenerate it.
+std::string render_reference_csv(const std::vector<ReferenceValue>& values, const std::string& regenerate_command);
+// Throws ReportError naming the file, line and field.
+std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path);
+
+// What a comparison of result files with references found: one line per value out of
+// tolerance or run missing, empty when everything agrees.
+struct ReferenceCheck {
+  std::vector<std::string> failures;
+  std::size_t values_checked = 0;
+};
+ReferenceCheck check_against_reference(const std::vector<RunRecord>& records,
+                                       const std::vector<ReferenceValue>& reference);
+
+}  // namespace fscil

@@ -1,0 +1,101 @@
+#include "reports/reference_numbers.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "reports/atomic_file.h"
+#include "reports/report_error.h"
+#include "tests/temporary_directory.h"
+
+namespace fscil {
+namespace {
+
+RunRecord run_of(const std::string& method, std::uint64_t seed, std::vector<double> accuracies) {
+  RunRecord record;
+  record.method = method;
+  record.dataset = "simtex-mini";
+  record.profile = "smoke";
+  record.seed = seed;
+  record.threads = 2;
+  for (std::size_t s = 0; s < accuracies.size(); ++s) {
+    SessionRecord session;
+    session.session = static_cast<int>(s);
+    session.accuracy.all = accuracies[s];
+    record.sessions.push_back(session);
+  }
+  return record;
+}
+
+std::string message_of(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const ReportError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(ReferenceNumbers, EveryValueOfEveryRunSurvivesTheFile) {
+  const auto values = reference_values_of({run_of("prototype", 1, {60, 50, 40}), run_of("pits-sc", 2, {70, 65})}, 2.0);
+  ASSERT_EQ(values.size(), 6u + 5u);  // acc_0..acc_2, AA, PD, ADR; acc_0..acc_1, AA, PD, ADR
+  EXPECT_EQ(values[3].metric, "AA");
+  EXPECT_DOUBLE_EQ(values[3].expected, 50.0);
+  EXPECT_EQ(values[4].metric, "PD");
+  EXPECT_DOUBLE_EQ(values[4].expected, 20.0);
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "reference.csv";
+  write_file_atomically(path, render_reference_csv(values, "bash regenerate.sh"));
+  const auto loaded = load_reference_csv(path);
+  ASSERT_EQ(loaded.size(), values.size());
+  EXPECT_EQ(loaded[7].method, "pits-sc");
+  EXPECT_EQ(loaded[7].seed, 2u);
+  EXPECT_EQ(loaded[7].metric, "acc_1");
+  EXPECT_DOUBLE_EQ(loaded[7].expected, 65.0);
+  EXPECT_DOUBLE_EQ(loaded[7].tolerance, 2.0);
+}
+
+TEST(ReferenceNumbers, AGainIsAsSuspiciousAsALoss) {
+  const auto reference = reference_values_of({run_of("prototype", 1, {60, 50, 40})}, 2.0);
+  EXPECT_TRUE(check_against_reference({run_of("prototype", 1, {61.5, 48.5, 40})}, reference).failures.empty());
+  const ReferenceCheck gain = check_against_reference({run_of("prototype", 1, {60, 50, 42.5})}, reference);
+  // acc_2 +2.5 moves AA by +0.83 (within) and PD by -2.5 and ADR by -2.5 (outside).
+  ASSERT_EQ(gain.failures.size(), 3u);
+  EXPECT_EQ(gain.failures[0], "prototype on simtex-mini seed 1 acc_2: expected 40.00 +- 2.00, got 42.50 (+2.50)");
+  const ReferenceCheck loss = check_against_reference({run_of("prototype", 1, {57, 50, 40})}, reference);
+  EXPECT_NE(loss.failures.at(0).find("acc_0: expected 60.00 +- 2.00, got 57.00 (-3.00)"), std::string::npos);
+  EXPECT_EQ(loss.values_checked, 6u);
+}
+
+TEST(ReferenceNumbers, MissingRunsAndOtherProtocolsFail) {
+  const auto reference = reference_values_of({run_of("prototype", 1, {60, 50}), run_of("prototype", 2, {60, 50})}, 2.0);
+  const ReferenceCheck missing = check_against_reference({run_of("prototype", 1, {60, 50})}, reference);
+  ASSERT_EQ(missing.failures.size(), 1u);
+  EXPECT_EQ(missing.failures[0], "prototype on simtex-mini seed 2: no result file for this run");
+  RunRecord other = run_of("prototype", 1, {60, 50});
+  other.threads = 1;
+  const ReferenceCheck threads = check_against_reference({other, run_of("prototype", 2, {60, 50})}, reference);
+  ASSERT_EQ(threads.failures.size(), 1u);
+  EXPECT_NE(threads.failures[0].find("ran with profile smoke and 1 threads, the reference with smoke and 2"),
+            std::string::npos);
+}
+
+TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "reference.csv";
+  const std::string header = "method,dataset,profile,seed,threads,metric,expected,tolerance\n";
+  std::ofstream(path) << header << "prototype,simtex-mini,smoke,1,2,AA,50\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); }).find("reference.csv:2: 7 fields, expected 8"),
+            std::string::npos);
+  std::ofstream(path) << "# comment\n" << header << "prototype,simtex-mini,smoke,1,2,AA,nan,2\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); }).find("reference.csv:3 expected: 'nan' is not a finite number"),
+            std::string::npos);
+  std::ofstream(path) << "method,value\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); }).find("reference.csv:1: header 'method,value'"),
+            std::string::npos);
+  EXPECT_NE(message_of([&] { load_reference_csv(directory.path() / "absent.csv"); }).find("cannot read"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# The protocol whose numbers reports/reference/simtex-mini-smoke.csv stores: every registered
+# method on simtex-mini, smoke profile, seeds 1 and 2, 2 threads.
+#   bash tools/reference_protocol.sh check [FSCIL_BENCH]       run it, compare (ctest and CI)
+#   bash tools/reference_protocol.sh regenerate [FSCIL_BENCH]  run it, overwrite the stored numbers
+set -euo pipefail
+mode=${1:-}
+root=$(cd "$(dirname "$0")/.." && pwd)
+bench=${2:-$root/build/tools/fscil-bench}
+reference=$root/reports/reference/simtex-mini-smoke.csv
+case $mode in check | regenerate) ;; *) echo "usage: $0 check|regenerate [fscil-bench]" >&2; exit 2 ;; esac
+
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+"$bench" --methods all --dataset simtex-mini --profile smoke --seeds 1,2 --threads 2 --no-cache --quiet \
+  --out "$out" >/dev/null
+if [ "$mode" = check ]; then
+  "$bench" check --results "$out" --reference "$reference"
+else
+  "$bench" reference --results "$out" --out "$reference" --tolerance 2
+fi
