@@ -27,9 +27,15 @@ void print_catalogue() {
   for (const auto& profile : fscil::profiles()) fmt::print("  {:<22} {}\n", profile.name, profile.summary);
 }
 
-void rebuild_reports(const std::string& results, const std::string& out) {
+void rebuild_reports(const std::string& results, const std::string& out, bool paper, const std::string& paper_tables) {
   const auto records = fscil::load_run_records(results);
-  fmt::print("{}", fscil::write_reports(out.empty() ? results : out, records));
+  const std::filesystem::path directory = out.empty() ? results : out;
+  fmt::print("{}", fscil::write_reports(directory, records));
+  if (paper) {
+    fmt::print("\n## Beside the paper\n\n{}",
+               fscil::write_paper_comparison(directory, records,
+                                             paper_tables.empty() ? fscil::default_paper_tables() : std::filesystem::path(paper_tables)));
+  }
 }
 
 void analyze_contexts(const std::string& results, const std::string& out) {
@@ -86,6 +92,11 @@ int main(int argc, char** argv) {
       "report", "Rebuild summary.csv, results.tex, costs.csv, costs.tex and the Markdown tables from result files");
   report->add_option("--results", results_dir, "directory holding result JSON files")->required();
   report->add_option("--out", report_out, "where to write the tables (default: the results directory)");
+  bool report_paper = false;
+  std::string paper_tables;
+  report->add_flag("--paper", report_paper,
+                   "also write paper_comparison.csv: our numbers beside the paper's, with the difference");
+  report->add_option("--paper-tables", paper_tables, "the paper's tables (default: reports/reference/paper_tables.csv)");
 
   std::string analyze_results, analyze_out;
   auto* analyze = app.add_subcommand("analyze", "Context-to-class dispersion R per session from result files");
@@ -113,7 +124,7 @@ int main(int argc, char** argv) {
     } else if (logmel_command->parsed()) {
       fscil::run_logmel(logmel);
     } else if (report->parsed()) {
-      rebuild_reports(results_dir, report_out);
+      rebuild_reports(results_dir, report_out, report_paper, paper_tables);
     } else if (analyze->parsed()) {
       analyze_contexts(analyze_results, analyze_out);
     } else if (check->parsed()) {

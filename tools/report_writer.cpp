@@ -2,6 +2,7 @@
 
 #include "reports/atomic_file.h"
 #include "reports/cost_table.h"
+#include "reports/paper_comparison.h"
 #include "reports/summary_table.h"
 
 namespace fscil {
@@ -14,6 +15,15 @@ std::string write_reports(const std::filesystem::path& out, const std::vector<Ru
   write_file_atomically(out / "costs.csv", render_cost_csv(costs));
   write_file_atomically(out / "costs.tex", render_cost_latex(costs));
   return render_markdown(table) + "\n" + render_cost_markdown(costs);
+}
+
+std::filesystem::path default_paper_tables() { return FSCIL_SOURCE_DIR "/reports/reference/paper_tables.csv"; }
+
+std::string write_paper_comparison(const std::filesystem::path& out, const std::vector<RunRecord>& records,
+                                   const std::filesystem::path& paper_tables) {
+  const auto rows = compare_with_paper(summarize_runs(records), load_paper_tables(paper_tables));
+  write_file_atomically(out / "paper_comparison.csv", render_paper_comparison_csv(rows));
+  return render_paper_comparison_markdown(rows);
 }
 
 }  // namespace fscil

@@ -10,4 +10,11 @@ namespace fscil {
 // tables (accuracy, then cost).
 std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 
+// The paper's tables as shipped in the source tree.
+std::filesystem::path default_paper_tables();
+// Writes paper_comparison.csv (ours, paper, ours - paper per matching dataset and method) into
+// `out` and returns it as Markdown.
+std::string write_paper_comparison(const std::filesystem::path& out, const std::vector<RunRecord>& records,
+                                   const std::filesystem::path& paper_tables);
+
 }  // namespace fscil

@@ -1,0 +1,65 @@
+#include "reports/paper_comparison.h"
+
+#include <gtest/gtest.h>
+
+namespace fscil {
+namespace {
+
+RunRecord run_of(const std::string& method, const std::string& dataset, std::uint64_t seed,
+                 std::vector<double> accuracies) {
+  RunRecord record;
+  record.method = method;
+  record.dataset = dataset;
+  record.seed = seed;
+  for (std::size_t s = 0; s < accuracies.size(); ++s) {
+    SessionRecord session;
+    session.session = static_cast<int>(s);
+    session.accuracy.all = accuracies[s];
+    record.sessions.push_back(session);
+  }
+  return record;
+}
+
+std::vector<PaperRow> paper() {
+  return {{"results_haptex", "HapTex", "CoP-FSCIL", "ours", {90, 80, 70}, 20, 80, 11.11},
+          {"results_lmt108", "LMT108", "CoP-FSCIL", "ours", {95, 85}, 10, 90, 10.53},
+          {"ablation_haptex", "HapTex", "cop-fscil/cpi", "", {88, 78, 68}, 20, 78, 11.1}};
+}
+
+TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
+  const SummaryTable ours = summarize_runs({run_of("cop-fscil", "haptex", 1, {80, 70, 66}),
+                                            run_of("cop-fscil", "haptex", 2, {82, 72, 62}),
+                                            run_of("cop-fscil/cpi", "simtex", 1, {60, 50, 40}),
+                                            run_of("prototype", "haptex", 1, {50, 40, 30}),
+                                            run_of("cop-fscil", "simtex-mini", 1, {50, 40, 30})});
+  const auto rows = compare_with_paper(ours, paper());
+  ASSERT_EQ(rows.size(), 2u);  // the paper reports no prototype and no simtex-mini
+  EXPECT_EQ(rows[0].paper_table, "results_haptex");
+  EXPECT_EQ(rows[0].paper_method, "CoP-FSCIL");
+  EXPECT_FALSE(rows[0].simulated);
+  EXPECT_EQ(rows[0].ours, (std::vector<double>{81, 71, 64, 17, 72, rows[0].ours[5]}));  // means over seeds
+  EXPECT_EQ(rows[1].paper_table, "ablation_haptex");
+  EXPECT_TRUE(rows[1].simulated);
+
+  const std::string csv = render_paper_comparison_csv(rows);
+  EXPECT_NE(csv.find("dataset,method,source,simulated,paper_dataset,paper_table,paper_method,acc_0,acc_1,acc_2,PD,AA,ADR\n"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find("haptex,cop-fscil,ours,no,HapTex,results_haptex,CoP-FSCIL,81.00,71.00,64.00,17.00,72.00,"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find("haptex,cop-fscil,ours-paper,no,HapTex,results_haptex,CoP-FSCIL,-9.00,-9.00,-6.00,-3.00,-8.00,"),
+            std::string::npos) << csv;
+  const std::string markdown = render_paper_comparison_markdown(rows);
+  EXPECT_NE(markdown.find("cop-fscil/cpi on simtex (simulated HapTex)"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("our data are simulated, the paper's real"), std::string::npos);
+  EXPECT_NE(markdown.find("| ours - paper | -28.00 | -28.00 | -28.00 |"), std::string::npos) << markdown;
+}
+
+TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {
+  const auto rows = compare_with_paper(summarize_runs({run_of("cop-fscil", "lmt108", 1, {90, 80, 70})}), paper());
+  ASSERT_EQ(rows.size(), 1u);
+  EXPECT_EQ(rows[0].sessions, 2u);
+  EXPECT_EQ(rows[0].paper, (std::vector<double>{95, 85, 10, 90, 10.53}));
+}
+
+}  // namespace
+}  // namespace fscil
