@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -50,6 +51,9 @@ struct ReplayFootprint {
   std::int64_t bytes = 0;
 };
 
+// A method's trained state as named tensors (checkpoints at session boundaries).
+using MethodState = std::map<std::string, torch::Tensor>;
+
 // A FSCIL method. The runner calls train_base once, then learn_session per incremental
 // session, and tests after each through embed() and classify(). A method reads every
 // hyper-parameter from the ParameterSet in its constructor, so bad values fail before training.
@@ -70,6 +74,11 @@ class Method {
   // random state as it was then, so the sessions that follow are exactly those of a run that
   // trained its own base. `trained` must not be used afterwards. False when it cannot.
   virtual bool continue_from_base(Method& /*trained*/, RunContext& /*context*/) { return false; }
+  // Everything later sessions, tests and costs read, for a checkpoint after a session. On a
+  // freshly made method (same parameters) restore_state() with the same context continues exactly
+  // where save_state() stood. Throws MethodError when the state does not fit.
+  virtual MethodState save_state() const = 0;
+  virtual void restore_state(const MethodState& state, RunContext& context) = 0;
   // Inference cost of one sample through embed() and classify() as the model stands now,
   // counted by walking the method's modules (rules in metrics/model_cost.h).
   virtual ModelCost inference_cost(const InputShape& input) const = 0;

@@ -122,21 +122,26 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
   return data;
 }
 
+void describe_protocol(RunContext& context, const PreparedDataset& dataset, const SessionSchedule& schedule) {
+  context.total_classes = schedule.plan.total_classes();
+  context.base_classes = schedule.plan.base_classes;
+  context.input = input_shape_of(dataset);
+  context.front_end = tensor_front_end(dataset.description.front_end);
+}
+
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context,
-                                         std::optional<double> inherited_base_seconds) {
+                                         std::optional<double> inherited_base_seconds,
+                                         const SessionCheckpoints& checkpoints) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const torch::Tensor test_labels = torch::tensor(schedule.labels_of(schedule.test), torch::kLong);
   context.validation = &validation;
-  context.total_classes = plan.total_classes();
-  context.base_classes = plan.base_classes;
-  context.input = input_shape_of(dataset);
-  context.front_end = tensor_front_end(dataset.description.front_end);
+  describe_protocol(context, dataset, schedule);
 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
-  std::vector<SessionOutcome> outcomes;
-  for (int session = 0; session < plan.sessions; ++session) {
+  std::vector<SessionOutcome> outcomes = checkpoints.finished;
+  for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
     if (context.progress != nullptr) {
       context.progress->stage(fmt::format("session {}/{}: {} classes, {} training samples", session, plan.sessions - 1,
@@ -190,6 +195,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       context.progress->note(line);
     }
     outcomes.push_back(outcome);
+    if (checkpoints.after_session) checkpoints.after_session(outcomes);
   }
   context.validation = nullptr;
   return outcomes;

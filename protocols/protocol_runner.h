@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -16,13 +17,26 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
 
 InputShape input_shape_of(const PreparedDataset& dataset);
 
+// Fills what a method learns about the protocol from its context: classes, input shape and the
+// tensor front end. run_sessions does it; a method restored from a checkpoint needs it first.
+void describe_protocol(RunContext& context, const PreparedDataset& dataset, const SessionSchedule& schedule);
+
+// Continuing from and writing checkpoints; run_sessions knows no files.
+struct SessionCheckpoints {
+  // Sessions a checkpoint already holds; the method and the random state stand after the last.
+  std::vector<SessionOutcome> finished;
+  // Called after every session with the outcomes so far (the run's state is then consistent).
+  std::function<void(const std::vector<SessionOutcome>&)> after_session;
+};
+
 // Drives any method through every session of the schedule and scores it after each on the
 // joint test set of all classes seen so far. The runner never knows which method it drives.
 // With `inherited_base_seconds` the method already holds a base trained elsewhere (see
 // Method::continue_from_base): session 0 is only tested, and reports that training time.
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context,
-                                         std::optional<double> inherited_base_seconds = std::nullopt);
+                                         std::optional<double> inherited_base_seconds = std::nullopt,
+                                         const SessionCheckpoints& checkpoints = {});
 
 struct InferenceTiming {
   double seconds_per_sample = 0;

@@ -60,6 +60,10 @@ int main(int argc, char** argv) {
   app.add_option("--seeds", run.seeds, "seeds, e.g. 1,2,3 or 1-5")->capture_default_str();
   app.add_option("--threads", run.threads, "compute threads (0 = all cores)")->capture_default_str();
   app.add_option("--out", run.out, "output directory for result files and tables")->capture_default_str();
+  std::string resume_dir;
+  app.add_option("--resume", resume_dir,
+                 "continue the interrupted command whose --out was DIR (give the same options): finished runs are "
+                 "kept, a run stopped mid-way continues from its last session checkpoint");
   app.add_option("--data-root", run.data_root, "root folder of a real dataset download");
   app.add_option("--cache-dir", run.cache_dir, "segment cache folder (default: ~/.cache/fscil-bench)");
   app.add_flag("--no-cache", run.no_cache, "neither read nor write the segment cache");
@@ -135,6 +139,15 @@ int main(int argc, char** argv) {
       if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");
         return 2;
+      }
+      if (!resume_dir.empty()) {
+        if (app.count("--out") > 0 && run.out != resume_dir) {
+          fmt::print(stderr, "fscil-bench: error: --resume {} and --out {}: a resumed run writes where it started\n",
+                     resume_dir, run.out);
+          return 2;
+        }
+        run.out = resume_dir;
+        run.resume = true;
       }
       fscil::run_benchmark(run);
     }

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <map>
@@ -10,11 +11,14 @@
 #include <thread>
 
 #include "datasets/dataset_catalog.h"
+#include "datasets/segment_cache.h"
+#include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "protocols/protocol_error.h"
 #include "protocols/protocol_runner.h"
+#include "protocols/run_checkpoint.h"
 #include "protocols/session_schedule.h"
 #include "tools/machine_info.h"
 #include "tools/report_writer.h"
@@ -51,6 +55,37 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
     throw ProtocolError(fmt::format("--set {}: no dataset, protocol or method of this run reads it",
                                     fmt::join(unread, ", ")));
   }
+}
+
+// Everything that shapes a run's numbers; a checkpoint or result file of another run is refused.
+std::string run_identity(const std::string& method, const std::string& dataset, const std::string& dataset_key,
+                         std::uint64_t seed, int threads, const std::string& profile,
+                         std::map<std::string, std::string> parameters) {
+  parameters.erase("base_training");  // how the base was obtained, not what it is
+  std::string text;
+  for (const auto& [key, value] : parameters) text += key + "=" + value + ";";
+  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} parameters={}", method, dataset,
+                     dataset_key, seed, threads, profile, stable_hash(text));
+}
+
+std::string identity_of(const RunRecord& record) {
+  return run_identity(record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
+                      record.parameters);
+}
+
+fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
+                         std::uint64_t seed) {
+  RunRecord name;
+  name.method = method;
+  name.dataset = dataset;
+  name.seed = seed;
+  return out / "checkpoints" / fs::path(run_record_file_name(name)).replace_extension(".ckpt");
+}
+
+// With --resume: the runs already finished in `out`, which must be runs of this command.
+std::vector<RunRecord> finished_runs(const RunOptions& options) {
+  if (!options.resume || !fs::exists(fs::path(options.out) / "results")) return {};
+  return load_run_records(options.out);
 }
 
 }  // namespace
@@ -117,12 +152,34 @@ void run_benchmark(const RunOptions& options) {
     double seconds = 0;
   };
   std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
+  const std::vector<RunRecord> finished = finished_runs(options);
   for (std::size_t m = 0; m < method_names.size(); ++m) {
     for (std::size_t s = 0; s < seeds.size(); ++s) {
       progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", method_names[m], options.dataset, seeds[s],
                                  m * seeds.size() + s + 1, method_names.size() * seeds.size()));
       ParameterSet run_params = params;
       auto method = create_method(method_names[m], run_params);
+      std::map<std::string, std::string> parameters = run_params.used();
+      for (const auto& [key, value] : dataset_params.used()) parameters[key] = value;
+      for (const auto& [key, value] : protocol_params.used()) parameters[key] = value;
+      const std::string identity = run_identity(method_names[m], options.dataset, dataset.cache_key, seeds[s], threads,
+                                                options.profile, parameters);
+      const fs::path checkpoint_file = checkpoint_path(options.out, method_names[m], options.dataset, seeds[s]);
+      const auto done = std::find_if(finished.begin(), finished.end(), [&](const RunRecord& record) {
+        return record.method == method_names[m] && record.dataset == options.dataset && record.seed == seeds[s];
+      });
+      if (done != finished.end()) {
+        if (identity_of(*done) != identity) {
+          throw ProtocolError(fmt::format("{}/results/{}: a result of another run ({}); resume with the command that "
+                                          "made it, or use another --out", options.out, run_record_file_name(*done),
+                                          identity_of(*done)));
+        }
+        progress.note("finished before the interruption: result kept");
+        records.push_back(*done);
+        std::error_code ignored;
+        fs::remove(checkpoint_file, ignored);
+        continue;
+      }
       torch::manual_seed(seeds[s]);
       RunContext context;
       context.seed = seeds[s];
@@ -133,13 +190,35 @@ void run_benchmark(const RunOptions& options) {
       const std::string base_key = method->shared_base_key();
       std::optional<double> inherited_base_seconds;
       std::string base_trained_by;
-      if (auto found = trained_bases.find({base_key, seeds[s]});
-          !base_key.empty() && found != trained_bases.end() && method->continue_from_base(*found->second.method, context)) {
+      SessionCheckpoints checkpoints;
+      double seconds_before = 0;
+      if (options.resume && fs::exists(checkpoint_file)) {
+        RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);
+        describe_protocol(context, dataset, schedules[s]);
+        try {
+          method->restore_state(saved.method_state, context);
+        } catch (const MethodError& error) {
+          throw ProtocolError(fmt::format("{}: checkpoint does not fit {}: {}", checkpoint_file.string(),
+                                          method_names[m], error.what()));
+        }
+        context.generator = saved.generator;
+        restore_torch_random_state(saved.torch_random_state);
+        checkpoints.finished = std::move(saved.outcomes);
+        seconds_before = saved.elapsed_seconds;
+        progress.note(fmt::format("continuing after session {} from {}", checkpoints.finished.size() - 1,
+                                  checkpoint_file.string()));
+      } else if (auto found = trained_bases.find({base_key, seeds[s]});
+                 !base_key.empty() && found != trained_bases.end() &&
+                 method->continue_from_base(*found->second.method, context)) {
         inherited_base_seconds = found->second.seconds;
         base_trained_by = found->second.trained_by;
         progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
       }
-      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, inherited_base_seconds);
+      checkpoints.after_session = [&](const std::vector<SessionOutcome>& so_far) {
+        save_checkpoint(checkpoint_file, {identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
+                                          context.generator, torch_random_state()});
+      };
+      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, inherited_base_seconds, checkpoints);
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);
 
@@ -149,9 +228,7 @@ void run_benchmark(const RunOptions& options) {
       record.profile = options.profile;
       record.seed = seeds[s];
       record.threads = threads;
-      record.parameters = run_params.used();
-      for (const auto& [key, value] : dataset_params.used()) record.parameters[key] = value;
-      for (const auto& [key, value] : protocol_params.used()) record.parameters[key] = value;
+      record.parameters = parameters;
       record.machine = machine;
       record.git_commit = commit;
       record.dataset_key = dataset.cache_key;
@@ -159,7 +236,7 @@ void run_benchmark(const RunOptions& options) {
         record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
                                    outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max});
       }
-      record.total_seconds = run_clock.seconds();
+      record.total_seconds = seconds_before + run_clock.seconds();
       record.peak_resident_bytes = peak_resident_bytes();
       record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
                           timing.batch};
@@ -168,6 +245,8 @@ void run_benchmark(const RunOptions& options) {
       record.replay_bytes = replay.bytes;
       if (!base_trained_by.empty()) record.parameters["base_training"] = "shared with " + base_trained_by;
       save_run_record(options.out, record);
+      std::error_code ignored;
+      fs::remove(checkpoint_file, ignored);  // the result file now holds everything
       records.push_back(std::move(record));
       if (!base_key.empty()) {
         trained_bases[{base_key, seeds[s]}] = {std::move(method), base_trained_by.empty() ? method_names[m] : base_trained_by,

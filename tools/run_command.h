@@ -11,6 +11,7 @@ struct RunOptions {
   std::string seeds = "1";
   int threads = 0;  // 0 = every hardware thread
   std::string out = "results";
+  bool resume = false;  // continue the run whose --out this is: keep finished runs, continue checkpoints
   std::string data_root;
   std::string cache_dir;  // empty = the user cache directory
   bool no_cache = false;

@@ -4,7 +4,9 @@
 #include <numeric>
 
 #include "methods/common/embedding.h"
+#include "methods/common/module_state.h"
 #include "methods/common/running_statistics_guard.h"
+#include "methods/common/torch_random_state.h"
 #include "methods/cop_fscil/stability_calibration.h"
 #include "methods/pits_sc/session_finetune.h"
 #include "protocols/seeded_shuffle.h"
@@ -135,9 +137,7 @@ void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
   state->stored_means = stored_means_.clone();
   state->seen_classes = seen_classes_;
   state->generator = context.generator;
-  auto torch_generator = at::detail::getDefaultCPUGenerator();
-  std::lock_guard<std::mutex> lock(torch_generator.mutex());
-  state->torch_generator_state = torch_generator.get_state();
+  state->torch_generator_state = torch_random_state();
   base_state_ = std::move(state);
 }
 
@@ -154,10 +154,21 @@ bool CopFscilMethod::continue_from_base(Method& trained, RunContext& context) {
   stored_means_ = base_state_->stored_means.clone();
   seen_classes_ = base_state_->seen_classes;
   context.generator = base_state_->generator;
-  auto torch_generator = at::detail::getDefaultCPUGenerator();
-  std::lock_guard<std::mutex> lock(torch_generator.mutex());
-  torch_generator.set_state(base_state_->torch_generator_state);
+  restore_torch_random_state(base_state_->torch_generator_state);
   return true;
+}
+
+// Sessions after the base read the adapter besides PITS-SC's state; the probe bank and the
+// shared-base snapshot serve base training only.
+MethodState CopFscilMethod::save_state() const {
+  MethodState state = PitsScMethod::save_state();
+  if (components_.pcqa) put_module(state, "adapter.", *adapter_);
+  return state;
+}
+
+void CopFscilMethod::restore_state(const MethodState& state, RunContext& context) {
+  PitsScMethod::restore_state(state, context);  // builds the adapter too
+  if (components_.pcqa) take_module(state, "adapter.", *adapter_);
 }
 
 ModelCost CopFscilMethod::inference_cost(const InputShape& input) const {

@@ -26,6 +26,8 @@ class CopFscilMethod : public PitsScMethod {
   bool continue_from_base(Method& trained, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  MethodState save_state() const override;
+  void restore_state(const MethodState& state, RunContext& context) override;
 
   // For tests.
   const CopFscilComponents& components() const { return components_; }

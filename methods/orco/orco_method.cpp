@@ -8,6 +8,7 @@
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/embedding.h"
 #include "methods/common/masked_view.h"
+#include "methods/common/module_state.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
 #include "protocols/seeded_shuffle.h"
@@ -213,6 +214,40 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
   objective.cross_entropy_weight = settings_.novel_ce_weight;
   train_projector(encoded_views(memory_.features(), context), memory_.labels(), settings_.session, objective, context,
                   fmt::format("session {}", support.session));
+}
+
+MethodState OrcoMethod::save_state() const {
+  std::vector<std::uint8_t> taken(target_taken_.begin(), target_taken_.end());
+  MethodState state{{"base_classes", torch::tensor(base_classes_)},
+                    {"targets", targets_.clone()},
+                    {"class_targets", torch::tensor(class_targets_, torch::kLong)},
+                    {"target_taken", torch::tensor(std::vector<std::int64_t>(taken.begin(), taken.end()), torch::kLong)},
+                    {"memory_features", memory_.features().clone()},
+                    {"memory_labels", memory_.labels().clone()}};
+  put_module(state, "encoder.", *encoder_);
+  put_module(state, "projector.", *projector_);
+  Projector phase_two(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
+  phase_two_projector_.restore_into(*phase_two);
+  put_module(state, "phase_two_projector.", *phase_two);
+  return state;
+}
+
+void OrcoMethod::restore_state(const MethodState& state, RunContext& context) {
+  base_classes_ = take(state, "base_classes").item<std::int64_t>();
+  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  projector_ = Projector(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
+  take_module(state, "phase_two_projector.", *projector_);
+  phase_two_projector_ = ParameterSnapshot(*projector_);
+  take_module(state, "encoder.", *encoder_);
+  take_module(state, "projector.", *projector_);
+  encoder_->eval();
+  targets_ = take(state, "targets").clone();
+  const torch::Tensor class_targets = take(state, "class_targets").contiguous();
+  class_targets_.assign(class_targets.data_ptr<std::int64_t>(), class_targets.data_ptr<std::int64_t>() + class_targets.numel());
+  const torch::Tensor taken = take(state, "target_taken").contiguous();
+  target_taken_.assign(taken.data_ptr<std::int64_t>(), taken.data_ptr<std::int64_t>() + taken.numel());
+  memory_ = ReplayMemory();
+  memory_.keep_all(take(state, "memory_features"), take(state, "memory_labels"));
 }
 
 torch::Tensor OrcoMethod::embed(const torch::Tensor& features) {

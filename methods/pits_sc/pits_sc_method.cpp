@@ -6,6 +6,7 @@
 
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/module_state.h"
 #include "methods/common/mixing.h"
 #include "methods/common/supervised_training.h"
 #include "methods/pits_sc/pseudo_incremental.h"
@@ -124,6 +125,21 @@ void PitsScMethod::learn_session(const SessionData& support, RunContext& /*conte
   finetune_session_rows(classifier_, embeddings, support.labels, stored_means_, seen_classes_,
                         {settings_.epochs_new, settings_.lr_new, settings_.lamda_proto});
   stored_means_ = torch::cat({stored_means_, new_means});
+}
+
+MethodState PitsScMethod::save_state() const {
+  MethodState state{{"seen_classes", torch::tensor(seen_classes_)}, {"stored_means", stored_means_.clone()}};
+  put_module(state, "encoder.", *encoder_);
+  put_module(state, "classifier.", *classifier_);
+  return state;
+}
+
+void PitsScMethod::restore_state(const MethodState& state, RunContext& context) {
+  build_network(context);
+  take_module(state, "encoder.", *encoder_);
+  take_module(state, "classifier.", *classifier_);
+  stored_means_ = take(state, "stored_means").clone();
+  seen_classes_ = take(state, "seen_classes").item<std::int64_t>();
 }
 
 torch::Tensor PitsScMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }

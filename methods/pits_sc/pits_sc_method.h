@@ -22,6 +22,8 @@ class PitsScMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  MethodState save_state() const override;
+  void restore_state(const MethodState& state, RunContext& context) override;
 
   // For tests: the modules as they stand.
   ResNet18Encoder& encoder() { return encoder_; }

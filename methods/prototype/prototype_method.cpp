@@ -4,15 +4,20 @@
 
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/module_state.h"
 
 namespace fscil {
 
 PrototypeMethod::PrototypeMethod(const ParameterSet& params)
     : schedule_(SupervisedSchedule::from(params)), temperature_(params.real("temperature", 16.0)) {}
 
-void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
+void PrototypeMethod::build_network(const RunContext& context) {
   encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
   classifier_ = CosineClassifier(context.total_classes, encoder_->embedding_size(), temperature_);
+}
+
+void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
+  build_network(context);
   train_supervised(encoder_, classifier_, base, context.base_classes, schedule_, context, "base");
   seen_classes_ = 0;
   add_prototypes(base);
@@ -32,6 +37,20 @@ void PrototypeMethod::add_prototypes(const SessionData& data) {
   }
   classifier_->set_rows(seen_classes_, means);
   seen_classes_ += static_cast<std::int64_t>(data.new_classes.size());
+}
+
+MethodState PrototypeMethod::save_state() const {
+  MethodState state{{"seen_classes", torch::tensor(seen_classes_)}};
+  put_module(state, "encoder.", *encoder_);
+  put_module(state, "classifier.", *classifier_);
+  return state;
+}
+
+void PrototypeMethod::restore_state(const MethodState& state, RunContext& context) {
+  build_network(context);
+  take_module(state, "encoder.", *encoder_);
+  take_module(state, "classifier.", *classifier_);
+  seen_classes_ = take(state, "seen_classes").item<std::int64_t>();
 }
 
 torch::Tensor PrototypeMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }

@@ -18,8 +18,11 @@ class PrototypeMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  MethodState save_state() const override;
+  void restore_state(const MethodState& state, RunContext& context) override;
 
  private:
+  void build_network(const RunContext& context);
   void add_prototypes(const SessionData& data);
 
   SupervisedSchedule schedule_;

@@ -6,6 +6,9 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <chrono>
+#include <csignal>
+#include <thread>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -183,6 +186,70 @@ TEST(Cli, CheckComparesResultsWithReferenceNumbersBothWays) {
   EXPECT_NE(drifted.output.find(fmt::format("FAIL prototype on simtex-mini seed 1 acc_1: expected {:.2f} +- 2.00, got {:.2f} (-5.00)",
                                             stored + 5, stored)), std::string::npos) << drifted.output;
   EXPECT_NE(drifted.output.find("regenerate with: bash tools/reference_protocol.sh regenerate"), std::string::npos);
+}
+
+// A run killed with SIGKILL once its first cop-fscil checkpoint exists, i.e. during an
+// incremental session of cop-fscil, after prototype had finished.
+class KilledRun : public ::testing::Test {
+ protected:
+  static constexpr const char* kOptions =
+      " --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+
+  void SetUp() override {
+    const std::string pid_file = (out.path() / "pid").string();
+    ASSERT_EQ(std::system((std::string(FSCIL_BENCH_EXECUTABLE) + kOptions + " --out " + out.path().string() +
+                           " > /dev/null 2>&1 & echo $! > " + pid_file).c_str()), 0);
+    const auto started = std::chrono::steady_clock::now();
+    while (!std::filesystem::exists(checkpoint()) && std::chrono::steady_clock::now() - started < std::chrono::minutes(5)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    int pid = 0;
+    std::ifstream(pid_file) >> pid;
+    ASSERT_GT(pid, 0);
+    ::kill(pid, SIGKILL);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // not our child: no waitpid, let it die
+  }
+  std::filesystem::path checkpoint() const {
+    return out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
+  }
+  std::filesystem::path result(const std::string& method) const {
+    return out.path() / "results" / (method + "__simtex-mini__seed1.json");
+  }
+  TemporaryDirectory out;
+};
+
+TEST_F(KilledRun, ResumeEndsWithExactlyTheResultsOfAnUninterruptedRun) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  ASSERT_TRUE(std::filesystem::exists(result("prototype")));
+  ASSERT_FALSE(std::filesystem::exists(result("cop-fscil"))) << "the run finished before it was killed";
+  const CommandResult resumed = run_cli(std::string(kOptions) + " --resume " + out.path().string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_FALSE(std::filesystem::exists(checkpoint())) << "a finished run leaves no checkpoint";
+
+  TemporaryDirectory uninterrupted;
+  ASSERT_EQ(run_cli(std::string(kOptions) + " --out " + uninterrupted.path().string()).exit_code, 0);
+  for (const std::string method : {"prototype", "cop-fscil"}) {
+    const std::string expected = accuracies_in(uninterrupted.path() / "results" / (method + "__simtex-mini__seed1.json"));
+    EXPECT_EQ(std::count(expected.begin(), expected.end(), ':'), 3);
+    EXPECT_EQ(accuracies_in(result(method)), expected) << method;
+  }
+}
+
+TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  const auto size = std::filesystem::file_size(checkpoint());
+  const auto saved = out.path() / "saved.ckpt";
+  std::filesystem::copy_file(checkpoint(), saved);
+  std::filesystem::resize_file(checkpoint(), size - 100);
+  expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + out.path().string()), "corrupt checkpoint");
+  EXPECT_FALSE(std::filesystem::exists(result("cop-fscil")));
+
+  // The same file under another seed's name: a checkpoint of another run.
+  std::filesystem::rename(saved, out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed2.ckpt");
+  expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet "
+                                "--no-cache --seeds 2 --resume " + out.path().string()),
+                        "checkpoint of another run");
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "cop-fscil__simtex-mini__seed2.json"));
 }
 
 TEST(Cli, FeaturesComputedOnDemandGiveTheAccuraciesOfFeaturesKeptInMemory) {

@@ -1,0 +1,143 @@
+#include "protocols/run_checkpoint.h"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "datasets/segment_cache.h"
+#include "protocols/protocol_error.h"
+
+namespace fscil {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kMagic = "fscil-bench checkpoint 1";
+constexpr int kOutcomeFields = 12;
+
+torch::Tensor text_tensor(const std::string& text) {
+  return torch::tensor(std::vector<std::int64_t>(text.begin(), text.end()), torch::kLong);
+}
+
+std::string tensor_text(const torch::Tensor& tensor) {
+  const torch::Tensor values = tensor.to(torch::kLong).contiguous();
+  return std::string(values.data_ptr<std::int64_t>(), values.data_ptr<std::int64_t>() + values.numel());
+}
+
+torch::Tensor outcome_rows(const std::vector<SessionOutcome>& outcomes) {
+  std::vector<double> values;
+  for (const auto& o : outcomes) {
+    values.insert(values.end(), {static_cast<double>(o.session), static_cast<double>(o.seen_classes), o.accuracy.all,
+                                 o.accuracy.base, o.accuracy.novel, o.accuracy.current, o.accuracy.harmonic,
+                                 static_cast<double>(o.accuracy.samples), o.train_seconds, o.test_seconds,
+                                 o.context_ratio_mean, o.context_ratio_max});
+  }
+  return torch::tensor(values, torch::kDouble).view({static_cast<std::int64_t>(outcomes.size()), kOutcomeFields});
+}
+
+std::vector<SessionOutcome> outcomes_of(const torch::Tensor& rows) {
+  std::vector<SessionOutcome> outcomes;
+  const torch::Tensor contiguous = rows.contiguous();
+  const auto v = contiguous.accessor<double, 2>();
+  for (std::int64_t r = 0; r < rows.size(0); ++r) {
+    SessionOutcome o;
+    o.session = static_cast<int>(v[r][0]);
+    o.seen_classes = static_cast<int>(v[r][1]);
+    o.accuracy.all = v[r][2];
+    o.accuracy.base = v[r][3];
+    o.accuracy.novel = v[r][4];
+    o.accuracy.current = v[r][5];
+    o.accuracy.harmonic = v[r][6];
+    o.accuracy.samples = static_cast<std::int64_t>(v[r][7]);
+    o.train_seconds = v[r][8];
+    o.test_seconds = v[r][9];
+    o.context_ratio_mean = v[r][10];
+    o.context_ratio_max = v[r][11];
+    outcomes.push_back(o);
+  }
+  return outcomes;
+}
+
+std::string serialize(const RunCheckpoint& checkpoint) {
+  torch::serialize::OutputArchive archive;
+  archive.write("identity", text_tensor(checkpoint.identity));
+  archive.write("outcomes", outcome_rows(checkpoint.outcomes));
+  archive.write("elapsed_seconds", torch::tensor(checkpoint.elapsed_seconds, torch::kDouble));
+  std::ostringstream generator;
+  generator << checkpoint.generator;
+  archive.write("generator", text_tensor(generator.str()));
+  archive.write("torch_random_state", checkpoint.torch_random_state);
+  torch::serialize::OutputArchive method;
+  for (const auto& [name, tensor] : checkpoint.method_state) method.write(name, tensor);
+  archive.write("method", method);
+  std::ostringstream bytes;
+  archive.save_to(bytes);
+  return bytes.str();
+}
+
+}  // namespace
+
+void save_checkpoint(const fs::path& path, const RunCheckpoint& checkpoint) {
+  const std::string body = serialize(checkpoint);
+  if (path.has_parent_path()) fs::create_directories(path.parent_path());
+  const fs::path temporary = path.string() + fmt::format(".tmp-{}", ::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << kMagic << '\n' << body.size() << ' ' << stable_hash(body) << '\n' << body;
+    out.flush();
+    if (!out) {
+      fs::remove(temporary);
+      throw ProtocolError(fmt::format("{}: cannot write the checkpoint", path.string()));
+    }
+  }
+  fs::rename(temporary, path);
+}
+
+RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_identity) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ProtocolError(fmt::format("{}: cannot open the checkpoint", path.string()));
+  std::string magic, digest;
+  std::size_t length = 0;
+  std::getline(in, magic);
+  in >> length >> digest;
+  in.get();
+  std::string body(length, '\0');
+  if (magic != kMagic || !in || !in.read(body.data(), static_cast<std::streamsize>(length)) ||
+      in.peek() != std::char_traits<char>::eof() || stable_hash(body) != digest) {
+    throw ProtocolError(fmt::format("{}: corrupt checkpoint (truncated, altered or not a fscil-bench checkpoint); "
+                                    "delete it to start that run over", path.string()));
+  }
+  RunCheckpoint checkpoint;
+  try {
+    torch::serialize::InputArchive archive;
+    std::istringstream stream(body);
+    archive.load_from(stream);
+    // A fresh tensor per read: reading into a defined tensor would copy into its type.
+    const auto read = [](torch::serialize::InputArchive& from, const std::string& key) {
+      torch::Tensor value;
+      from.read(key, value);
+      return value;
+    };
+    checkpoint.identity = tensor_text(read(archive, "identity"));
+    if (checkpoint.identity != expected_identity) {
+      throw ProtocolError(fmt::format("{}: checkpoint of another run ({}), expected {}", path.string(),
+                                      checkpoint.identity, expected_identity));
+    }
+    checkpoint.outcomes = outcomes_of(read(archive, "outcomes"));
+    checkpoint.elapsed_seconds = read(archive, "elapsed_seconds").item<double>();
+    std::istringstream generator(tensor_text(read(archive, "generator")));
+    generator >> checkpoint.generator;
+    checkpoint.torch_random_state = read(archive, "torch_random_state");
+    torch::serialize::InputArchive method;
+    archive.read("method", method);
+    for (const auto& name : method.keys()) checkpoint.method_state[name] = read(method, name);
+  } catch (const c10::Error& error) {
+    throw ProtocolError(fmt::format("{}: corrupt checkpoint ({})", path.string(), error.what_without_backtrace()));
+  }
+  return checkpoint;
+}
+
+}  // namespace fscil
