@@ -2,23 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/reports/session_runs.h"
+
 namespace fscil {
 namespace {
-
-RunRecord run_of(const std::string& method, const std::string& dataset, std::uint64_t seed,
-                 std::vector<double> accuracies) {
-  RunRecord record;
-  record.method = method;
-  record.dataset = dataset;
-  record.seed = seed;
-  for (std::size_t s = 0; s < accuracies.size(); ++s) {
-    SessionRecord session;
-    session.session = static_cast<int>(s);
-    session.accuracy.all = accuracies[s];
-    record.sessions.push_back(session);
-  }
-  return record;
-}
 
 std::vector<PaperRow> paper() {
   return {{"results_haptex", "HapTex", "CoP-FSCIL", "ours", {90, 80, 70}, 20, 80, 11.11},
@@ -27,11 +14,11 @@ std::vector<PaperRow> paper() {
 }
 
 TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
-  const SummaryTable ours = summarize_runs({run_of("cop-fscil", "haptex", 1, {80, 70, 66}),
-                                            run_of("cop-fscil", "haptex", 2, {82, 72, 62}),
-                                            run_of("cop-fscil/cpi", "simtex", 1, {60, 50, 40}),
-                                            run_of("prototype", "haptex", 1, {50, 40, 30}),
-                                            run_of("cop-fscil", "simtex-mini", 1, {50, 40, 30})});
+  const SummaryTable ours = summarize_runs({run_with_accuracies("cop-fscil", "haptex", 1, {80, 70, 66}),
+                                            run_with_accuracies("cop-fscil", "haptex", 2, {82, 72, 62}),
+                                            run_with_accuracies("cop-fscil/cpi", "simtex", 1, {60, 50, 40}),
+                                            run_with_accuracies("prototype", "haptex", 1, {50, 40, 30}),
+                                            run_with_accuracies("cop-fscil", "simtex-mini", 1, {50, 40, 30})});
   const auto rows = compare_with_paper(ours, paper());
   ASSERT_EQ(rows.size(), 2u);  // the paper reports no prototype and no simtex-mini
   EXPECT_EQ(rows[0].paper_table, "results_haptex");
@@ -55,7 +42,7 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
 }
 
 TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {
-  const auto rows = compare_with_paper(summarize_runs({run_of("cop-fscil", "lmt108", 1, {90, 80, 70})}), paper());
+  const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("cop-fscil", "lmt108", 1, {90, 80, 70})}), paper());
   ASSERT_EQ(rows.size(), 1u);
   EXPECT_EQ(rows[0].sessions, 2u);
   EXPECT_EQ(rows[0].paper, (std::vector<double>{95, 85, 10, 90, 10.53}));

@@ -3,28 +3,18 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <functional>
 
 #include "reports/atomic_file.h"
 #include "reports/report_error.h"
+#include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {
 namespace {
 
-RunRecord run_of(const std::string& method, std::uint64_t seed, std::vector<double> accuracies) {
-  RunRecord record;
-  record.method = method;
-  record.dataset = "simtex-mini";
-  record.profile = "smoke";
-  record.seed = seed;
-  record.threads = 2;
-  for (std::size_t s = 0; s < accuracies.size(); ++s) {
-    SessionRecord session;
-    session.session = static_cast<int>(s);
-    session.accuracy.all = accuracies[s];
-    record.sessions.push_back(session);
-  }
-  return record;
+RunRecord run_of(const std::string& method, std::uint64_t seed, const std::vector<double>& accuracies) {
+  return run_with_accuracies(method, "simtex-mini", seed, accuracies);
 }
 
 std::string message_of(const std::function<void()>& call) {

@@ -1,0 +1,28 @@
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "reports/run_record.h"
+
+namespace fscil {
+
+// A smoke-profile run on two threads with only its session accuracies filled in.
+inline RunRecord run_with_accuracies(const std::string& method, const std::string& dataset, std::uint64_t seed,
+                                     const std::vector<double>& accuracies) {
+  RunRecord record;
+  record.method = method;
+  record.dataset = dataset;
+  record.profile = "smoke";
+  record.seed = seed;
+  record.threads = 2;
+  for (std::size_t s = 0; s < accuracies.size(); ++s) {
+    SessionRecord session;
+    session.session = static_cast<int>(s);
+    session.accuracy.all = accuracies[s];
+    record.sessions.push_back(session);
+  }
+  return record;
+}
+
+}  // namespace fscil
