@@ -46,29 +46,28 @@ FrontEnd tensor_front_end(const LogMelSettings& settings) {
   };
 }
 
-// Rows of the dataset at `segments`: signals, or features as stored or computed per request.
-SampleRows signal_rows(const PreparedDataset& dataset, const std::vector<std::int64_t>& segments) {
+// Rows of a dataset array (signals, or features kept in memory) at `segments`.
+SampleRows stored_rows(const FloatArray& array, const std::vector<std::int64_t>& segments, int channel_repeat) {
   const torch::Tensor positions = torch::tensor(segments, torch::kLong);
-  const torch::Tensor all = tensor_of(dataset.segments.signals);
-  const int repeat = dataset.description.channel_repeat;
-  return SampleRows(positions.size(0), [positions, all, repeat](const torch::Tensor& index) {
-    return repeat_channels(all.index_select(0, positions.index_select(0, index)), repeat);
+  const torch::Tensor all = tensor_of(array);
+  return SampleRows(positions.size(0), [positions, all, channel_repeat](const torch::Tensor& index) {
+    return repeat_channels(all.index_select(0, positions.index_select(0, index)), channel_repeat);
   });
 }
 
+SampleRows signal_rows(const PreparedDataset& dataset, const std::vector<std::int64_t>& segments) {
+  return stored_rows(dataset.segments.signals, segments, dataset.description.channel_repeat);
+}
+
+// Features as kept in memory, or computed from the signals per request.
 SampleRows feature_rows(const PreparedDataset& dataset, const std::vector<std::int64_t>& segments) {
-  const torch::Tensor positions = torch::tensor(segments, torch::kLong);
   const int repeat = dataset.description.channel_repeat;
-  if (dataset.features_on_demand()) {
-    const torch::Tensor signals = tensor_of(dataset.segments.signals);
-    const FrontEnd front_end = tensor_front_end(dataset.description.front_end);
-    return SampleRows(positions.size(0), [positions, signals, repeat, front_end](const torch::Tensor& index) {
-      return repeat_channels(front_end(signals.index_select(0, positions.index_select(0, index))), repeat);
-    });
-  }
-  const torch::Tensor all = tensor_of(dataset.features);
-  return SampleRows(positions.size(0), [positions, all, repeat](const torch::Tensor& index) {
-    return repeat_channels(all.index_select(0, positions.index_select(0, index)), repeat);
+  if (!dataset.features_on_demand()) return stored_rows(dataset.features, segments, repeat);
+  const torch::Tensor positions = torch::tensor(segments, torch::kLong);
+  const torch::Tensor signals = tensor_of(dataset.segments.signals);
+  const FrontEnd front_end = tensor_front_end(dataset.description.front_end);
+  return SampleRows(positions.size(0), [positions, signals, repeat, front_end](const torch::Tensor& index) {
+    return repeat_channels(front_end(signals.index_select(0, positions.index_select(0, index))), repeat);
   });
 }
 

@@ -17,6 +17,8 @@ class ParameterSnapshot {
   }
 
   bool empty() const { return tensors_.empty(); }
+  // (name, saved copy) of every parameter and buffer.
+  const std::vector<std::pair<std::string, torch::Tensor>>& tensors() const { return tensors_; }
 
   void restore_into(torch::nn::Module& module) const {
     torch::NoGradGuard no_grad;

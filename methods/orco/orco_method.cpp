@@ -226,9 +226,7 @@ MethodState OrcoMethod::save_state() const {
                     {"memory_labels", memory_.labels().clone()}};
   put_module(state, "encoder.", *encoder_);
   put_module(state, "projector.", *projector_);
-  Projector phase_two(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
-  phase_two_projector_.restore_into(*phase_two);
-  put_module(state, "phase_two_projector.", *phase_two);
+  for (const auto& [name, tensor] : phase_two_projector_.tensors()) state["phase_two_projector." + name] = tensor.clone();
   return state;
 }
 
