@@ -6,9 +6,9 @@
 #include <fstream>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "metrics/fscil_metrics.h"
+#include "reports/csv_fields.h"
 #include "reports/report_error.h"
 
 namespace fscil {
@@ -27,28 +27,6 @@ std::vector<std::pair<std::string, double>> metrics_of(const RunRecord& record) 
   metrics.emplace_back("PD", summary.performance_drop);
   metrics.emplace_back("ADR", summary.average_drop_rate);
   return metrics;
-}
-
-std::vector<std::string> split_fields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::stringstream stream(line);
-  for (std::string field; std::getline(stream, field, ',');) fields.push_back(field);
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
-
-double parse_number(const std::string& text, const std::string& where) {
-  std::size_t used = 0;
-  double value = 0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || !std::isfinite(value)) {
-    throw ReportError(fmt::format("{}: '{}' is not a finite number", where, text));
-  }
-  return value;
 }
 
 }  // namespace
@@ -97,10 +75,10 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
       throw ReportError(fmt::format("{}: {} fields, expected 8 ({})", where, fields.size(), kHeader));
     }
     ReferenceValue value{fields[0], fields[1], fields[2], 0, 0, fields[5], 0, 0};
-    value.seed = static_cast<std::uint64_t>(parse_number(fields[3], where + " seed"));
-    value.threads = static_cast<int>(parse_number(fields[4], where + " threads"));
-    value.expected = parse_number(fields[6], where + " expected");
-    value.tolerance = parse_number(fields[7], where + " tolerance");
+    value.seed = static_cast<std::uint64_t>(finite_number(fields[3], where + " seed"));
+    value.threads = static_cast<int>(finite_number(fields[4], where + " threads"));
+    value.expected = finite_number(fields[6], where + " expected");
+    value.tolerance = finite_number(fields[7], where + " tolerance");
     if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));
     values.push_back(std::move(value));
   }
