@@ -1,9 +1,7 @@
 #pragma once
 #include <torch/torch.h>
 
-#include <string>
-#include <utility>
-#include <vector>
+#include "methods/common/module_state.h"
 
 namespace fscil {
 
@@ -11,25 +9,13 @@ namespace fscil {
 class ParameterSnapshot {
  public:
   ParameterSnapshot() = default;
-  explicit ParameterSnapshot(const torch::nn::Module& module) {
-    for (const auto& item : module.named_parameters()) tensors_.emplace_back(item.key(), item.value().detach().clone());
-    for (const auto& item : module.named_buffers()) tensors_.emplace_back(item.key(), item.value().detach().clone());
-  }
+  explicit ParameterSnapshot(const torch::nn::Module& module) { put_module(tensors_, "", module); }
 
   bool empty() const { return tensors_.empty(); }
-  // (name, saved copy) of every parameter and buffer.
-  const std::vector<std::pair<std::string, torch::Tensor>>& tensors() const { return tensors_; }
+  // Every parameter and buffer by name, as saved.
+  const MethodState& tensors() const { return tensors_; }
 
-  void restore_into(torch::nn::Module& module) const {
-    torch::NoGradGuard no_grad;
-    auto parameters = module.named_parameters();
-    auto buffers = module.named_buffers();
-    for (const auto& [name, saved] : tensors_) {
-      torch::Tensor* target = parameters.find(name);
-      if (target == nullptr) target = buffers.find(name);
-      target->copy_(saved);
-    }
-  }
+  void restore_into(torch::nn::Module& module) const { take_module(tensors_, "", module); }
 
   // True when every saved tensor equals the module's current one exactly.
   bool matches(const torch::nn::Module& module) const {
@@ -44,7 +30,7 @@ class ParameterSnapshot {
   }
 
  private:
-  std::vector<std::pair<std::string, torch::Tensor>> tensors_;
+  MethodState tensors_;
 };
 
 }  // namespace fscil
