@@ -43,6 +43,9 @@ struct RunContext {
   std::function<torch::Tensor(const torch::Tensor&)> front_end;
   const SessionData* validation = nullptr;
   ProgressReporter* progress = nullptr;
+  // Named measurements of the session being trained (base validation accuracy after a stage,
+  // loss terms, ...): the runner stores them with that session's results and clears them.
+  std::map<std::string, double> diagnostics;
 };
 
 // Real old samples a method stores for replay; zero for methods that keep none.

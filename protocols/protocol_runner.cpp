@@ -129,12 +129,13 @@ void describe_protocol(RunContext& context, const PreparedDataset& dataset, cons
 }
 
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
-                                         const SessionSchedule& schedule, RunContext& context,
-                                         std::optional<double> inherited_base_seconds,
+                                         const SessionSchedule& schedule, RunContext& context, EvaluationSplit scored,
+                                         const std::optional<InheritedBase>& inherited_base,
                                          const SessionCheckpoints& checkpoints) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
-  const torch::Tensor test_labels = torch::tensor(schedule.labels_of(schedule.test), torch::kLong);
+  const std::vector<std::int64_t>& scored_segments = schedule.scored_segments(scored);
+  const torch::Tensor test_labels = torch::tensor(schedule.labels_of(scored_segments), torch::kLong);
   context.validation = &validation;
   describe_protocol(context, dataset, schedule);
 
@@ -150,17 +151,19 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     outcome.session = session;
     outcome.seen_classes = plan.seen_after(session);
     Stopwatch train_clock;
+    context.diagnostics.clear();
     if (session > 0) {
       method.learn_session(data, context);
-    } else if (!inherited_base_seconds) {
+    } else if (!inherited_base) {
       method.train_base(data, context);
     }
-    outcome.train_seconds = session == 0 && inherited_base_seconds ? *inherited_base_seconds : train_clock.seconds();
+    outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : train_clock.seconds();
+    outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
 
     Stopwatch test_clock;
     const torch::Tensor seen = (test_labels < outcome.seen_classes).nonzero().flatten();
     std::vector<std::int64_t> seen_segments;
-    for (std::int64_t position : to_vector<std::int64_t>(seen)) seen_segments.push_back(schedule.test[position]);
+    for (std::int64_t position : to_vector<std::int64_t>(seen)) seen_segments.push_back(scored_segments[position]);
     const SampleRows features = feature_rows(dataset, seen_segments);
     std::vector<torch::Tensor> predictions, embeddings;
     for (std::int64_t first = 0; first < features.count(); first += kTestBatch) {
@@ -185,9 +188,9 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     }
     outcome.test_seconds = test_clock.seconds();
     if (context.progress != nullptr) {
-      std::string line = fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} test samples",
+      std::string line = fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} {} samples",
                                      session, outcome.accuracy.all, outcome.accuracy.base, outcome.accuracy.novel,
-                                     outcome.accuracy.samples);
+                                     outcome.accuracy.samples, to_string(scored));
       if (!segment_contexts.empty()) {
         line += fmt::format(", context ratio R mean {:.3f} max {:.3f}", outcome.context_ratio_mean, outcome.context_ratio_max);
       }

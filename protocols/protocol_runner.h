@@ -1,5 +1,6 @@
 #pragma once
 #include <functional>
+#include <map>
 #include <optional>
 #include <vector>
 
@@ -29,13 +30,21 @@ struct SessionCheckpoints {
   std::function<void(const std::vector<SessionOutcome>&)> after_session;
 };
 
+// A base session trained by another method of the same command (Method::continue_from_base):
+// its training time and what it reported while training.
+struct InheritedBase {
+  double seconds = 0;
+  std::map<std::string, double> diagnostics;
+};
+
 // Drives any method through every session of the schedule and scores it after each on the
-// joint test set of all classes seen so far. The runner never knows which method it drives.
-// With `inherited_base_seconds` the method already holds a base trained elsewhere (see
-// Method::continue_from_base): session 0 is only tested, and reports that training time.
+// joint `scored` split (test, or validation) of all classes seen so far. The runner never knows
+// which method it drives. With `inherited_base` the method already holds a base trained
+// elsewhere: session 0 is only scored, and reports that base's training time and diagnostics.
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context,
-                                         std::optional<double> inherited_base_seconds = std::nullopt,
+                                         EvaluationSplit scored = EvaluationSplit::test,
+                                         const std::optional<InheritedBase>& inherited_base = std::nullopt,
                                          const SessionCheckpoints& checkpoints = {});
 
 struct InferenceTiming {

@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr const char* kMagic = "fscil-bench checkpoint 1";
+constexpr const char* kMagic = "fscil-bench checkpoint 2";  // 2: per-session diagnostics
 constexpr int kOutcomeFields = 12;
 
 torch::Tensor text_tensor(const std::string& text) {
@@ -61,10 +61,35 @@ std::vector<SessionOutcome> outcomes_of(const torch::Tensor& rows) {
   return outcomes;
 }
 
+// One line per diagnostic: session, name and value (written exactly, as %.17g).
+std::string diagnostics_text(const std::vector<SessionOutcome>& outcomes) {
+  std::string text;
+  for (const auto& o : outcomes) {
+    for (const auto& [name, value] : o.diagnostics) text += fmt::format("{}\t{}\t{:.17g}\n", o.session, name, value);
+  }
+  return text;
+}
+
+// False when a line does not name a finished session, a name and a value.
+bool read_diagnostics(const std::string& text, std::vector<SessionOutcome>& outcomes) {
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream fields(line);
+    std::size_t session = 0;
+    std::string name;
+    double value = 0;
+    if (!(fields >> session >> name >> value) || session >= outcomes.size()) return false;
+    outcomes[session].diagnostics[name] = value;
+  }
+  return true;
+}
+
 std::string serialize(const RunCheckpoint& checkpoint) {
   torch::serialize::OutputArchive archive;
   archive.write("identity", text_tensor(checkpoint.identity));
   archive.write("outcomes", outcome_rows(checkpoint.outcomes));
+  archive.write("diagnostics", text_tensor(diagnostics_text(checkpoint.outcomes)));
   archive.write("elapsed_seconds", torch::tensor(checkpoint.elapsed_seconds, torch::kDouble));
   std::ostringstream generator;
   generator << checkpoint.generator;
@@ -127,6 +152,10 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
                                       checkpoint.identity, expected_identity));
     }
     checkpoint.outcomes = outcomes_of(read(archive, "outcomes"));
+    if (!read_diagnostics(tensor_text(read(archive, "diagnostics")), checkpoint.outcomes)) {
+      throw ProtocolError(fmt::format("{}: corrupt checkpoint (a diagnostics line names no finished session)",
+                                      path.string()));
+    }
     checkpoint.elapsed_seconds = read(archive, "elapsed_seconds").item<double>();
     std::istringstream generator(tensor_text(read(archive, "generator")));
     generator >> checkpoint.generator;

@@ -1,5 +1,7 @@
 #pragma once
 #include <limits>
+#include <map>
+#include <string>
 
 #include "metrics/session_accuracy.h"
 
@@ -16,6 +18,8 @@ struct SessionOutcome {
   // classes); NaN when the dataset carries no acquisition contexts.
   double context_ratio_mean = std::numeric_limits<double>::quiet_NaN();
   double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
+  // What the method reported while it trained this session (RunContext::diagnostics).
+  std::map<std::string, double> diagnostics;
 };
 
 }  // namespace fscil

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 
 #include "protocols/protocol_error.h"
@@ -15,6 +16,9 @@ namespace {
 
 struct ClassSplit {
   std::vector<std::int64_t> train, validation, test;
+  // Validation segments from the contexts of `test` (the scored validation split); for a base
+  // class outside held-out contexts this is `validation` itself.
+  std::vector<std::int64_t> scored_validation;
 };
 
 int share(std::size_t count, double fraction) {
@@ -56,11 +60,15 @@ void split_train_validation(const std::vector<int>& open, const std::string& cla
   train.assign(open.begin() + n_validation, open.end());
 }
 
-// Held-out contexts: half of those recordings test, the other half give novel classes their
-// shots; base classes train and validate on the other recordings only.
-void split_around_held_out_contexts(std::vector<int> open, std::vector<int> held_out, bool base_class,
+// Held-out contexts: half of those recordings test. Of the other half, a base class keeps them
+// all as its scored validation (base training never sees them); a novel class gives a quarter
+// (at least one) to its scored validation when the rest still holds `shots` segments, and draws
+// its shots from the rest. Base classes train and validate on the other recordings only.
+void split_around_held_out_contexts(std::vector<int> open, std::vector<int> held_out, bool base_class, int shots,
+                                    const std::function<std::size_t(const std::vector<int>&)>& segments_in,
                                     std::mt19937_64& generator, const std::string& class_name,
-                                    std::vector<int>& train, std::vector<int>& validation, std::vector<int>& test) {
+                                    std::vector<int>& train, std::vector<int>& validation, std::vector<int>& test,
+                                    std::vector<int>& scored_validation) {
   shuffle_with(open, generator);
   shuffle_with(held_out, generator);
   if (held_out.size() < 2) {
@@ -69,15 +77,25 @@ void split_around_held_out_contexts(std::vector<int> open, std::vector<int> held
   }
   const std::size_t n_test = held_out.size() / 2;
   test.assign(held_out.begin(), held_out.begin() + n_test);
+  const std::vector<int> rest(held_out.begin() + n_test, held_out.end());
   if (base_class) {
     split_train_validation(open, class_name, train, validation);
-  } else {
-    train.assign(held_out.begin() + n_test, held_out.end());
+    scored_validation = rest;
+    return;
+  }
+  train = rest;
+  if (rest.size() >= 2) {
+    std::vector<int> shot_pool, carved;
+    split_train_validation(rest, class_name, shot_pool, carved);
+    if (segments_in(shot_pool) >= static_cast<std::size_t>(shots)) {
+      train = shot_pool;
+      scored_validation = carved;
+    }
   }
 }
 
 ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held_out,
-                       const std::vector<std::int64_t>& members, SplitMode mode, bool base_class,
+                       const std::vector<std::int64_t>& members, SplitMode mode, bool base_class, int shots,
                        std::mt19937_64& generator, const std::string& class_name) {
   ClassSplit split;
   if (mode == SplitMode::segment) {
@@ -86,6 +104,7 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
                                       class_name, members.size()));
     }
     split_units(members, generator, split.train, split.validation, split.test);
+    split.scored_validation = split.validation;
     return split;
   }
   std::map<int, std::vector<std::int64_t>> by_recording;
@@ -102,9 +121,17 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
       open.push_back(recording);
     }
   }
-  std::vector<int> train, validation, test;
+  std::vector<int> train, validation, test, scored_validation;
+  bool scored_is_validation = true;
   if (!context_held_out.empty()) {
-    split_around_held_out_contexts(open, context_held_out, base_class, generator, class_name, train, validation, test);
+    const auto segments_in = [&](const std::vector<int>& recordings) {
+      std::size_t count = 0;
+      for (int recording : recordings) count += by_recording[recording].size();
+      return count;
+    };
+    split_around_held_out_contexts(open, context_held_out, base_class, shots, segments_in, generator, class_name,
+                                   train, validation, test, scored_validation);
+    scored_is_validation = false;
   } else if (!dataset_validation.empty()) {
     // The dataset's own lists (LS-100, NS-100): train, validation and test as published.
     if (dataset_test.empty() || open.empty()) {
@@ -136,6 +163,11 @@ ClassSplit split_class(const SegmentSet& segments, const std::vector<bool>& held
   gather(train, split.train);
   gather(validation, split.validation);
   gather(test, split.test);
+  if (scored_is_validation) {
+    split.scored_validation = split.validation;
+  } else {
+    gather(scored_validation, split.scored_validation);
+  }
   return split;
 }
 
@@ -145,6 +177,25 @@ SplitMode parse_split_mode(const std::string& text) {
   if (text == "recording") return SplitMode::recording;
   if (text == "segment") return SplitMode::segment;
   throw ProtocolError(fmt::format("split mode '{}': expected recording or segment", text));
+}
+
+EvaluationSplit parse_evaluation_split(const std::string& text) {
+  if (text == "test") return EvaluationSplit::test;
+  if (text == "validation") return EvaluationSplit::validation;
+  throw ProtocolError(fmt::format("--evaluate-on '{}': expected test or validation", text));
+}
+
+std::string to_string(EvaluationSplit split) { return split == EvaluationSplit::test ? "test" : "validation"; }
+
+const std::vector<std::int64_t>& SessionSchedule::scored_segments(EvaluationSplit split) const {
+  if (split == EvaluationSplit::test) return test;
+  if (!classes_without_scored_validation.empty()) {
+    throw ProtocolError(fmt::format("--evaluate-on validation: {} of {} classes have no validation recordings in their "
+                                    "test contexts (first: {}); this dataset can only be scored on test",
+                                    classes_without_scored_validation.size(), plan.class_order.size(),
+                                    classes_without_scored_validation.front()));
+  }
+  return scored_validation;
 }
 
 std::vector<std::int64_t> SessionSchedule::labels_of(const std::vector<std::int64_t>& indices) const {
@@ -178,8 +229,12 @@ SessionSchedule build_session_schedule(const SegmentSet& segments, const std::ve
                                  ? class_names[dataset_class] : std::to_string(dataset_class);
     auto split_generator = seeded_generator(seed, SeedPurpose::split, static_cast<std::uint64_t>(dataset_class));
     const int session = plan.session_of_class(p);
-    ClassSplit split = split_class(segments, held_out, members[p], mode, session == 0, split_generator, name);
+    ClassSplit split =
+        split_class(segments, held_out, members[p], mode, session == 0, plan.shot, split_generator, name);
     schedule.test.insert(schedule.test.end(), split.test.begin(), split.test.end());
+    schedule.scored_validation.insert(schedule.scored_validation.end(), split.scored_validation.begin(),
+                                      split.scored_validation.end());
+    if (split.scored_validation.empty()) schedule.classes_without_scored_validation.push_back(name);
     if (session == 0) {
       schedule.train[0].insert(schedule.train[0].end(), split.train.begin(), split.train.end());
       schedule.validation.insert(schedule.validation.end(), split.validation.begin(), split.validation.end());

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "reports/report_error.h"
+
 namespace fscil {
 
 namespace {
@@ -50,6 +52,10 @@ std::string label_of(const PaperComparisonRow& row) {
 }  // namespace
 
 std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, const std::vector<PaperRow>& paper) {
+  if (ours.evaluated_on != "test") {
+    throw ReportError(fmt::format("these runs were scored on the {} split; the paper's numbers are test-split numbers",
+                                  ours.evaluated_on));
+  }
   std::vector<PaperComparisonRow> rows;
   for (const auto& row : ours.rows) {
     const auto dataset = std::find_if(std::begin(kDatasets), std::end(kDatasets),

@@ -34,6 +34,10 @@ std::vector<std::pair<std::string, double>> metrics_of(const RunRecord& record) 
 std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance) {
   std::vector<ReferenceValue> values;
   for (const auto& record : records) {
+    if (record.evaluated_on != "test") {
+      throw ReportError(fmt::format("{} on {} seed {}: scored on the {} split; reference numbers are test-split numbers",
+                                    record.method, record.dataset, record.seed, record.evaluated_on));
+    }
     for (const auto& [metric, value] : metrics_of(record)) {
       values.push_back({record.method, record.dataset, record.profile, record.seed, record.threads, metric, value,
                         tolerance});
@@ -103,6 +107,12 @@ ReferenceCheck check_against_reference(const std::vector<RunRecord>& records,
       continue;
     }
     const RunRecord& run = *found->second;
+    if (run.evaluated_on != "test") {
+      check.failures.push_back(fmt::format("{}: scored on the {} split; reference numbers are test-split numbers",
+                                           run_name, run.evaluated_on));
+      unusable_runs.insert(run_name);
+      continue;
+    }
     if (run.profile != expected.profile || run.threads != expected.threads) {
       check.failures.push_back(fmt::format("{}: ran with profile {} and {} threads, the reference with {} and {}",
                                            run_name, run.profile, run.threads, expected.profile, expected.threads));

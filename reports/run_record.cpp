@@ -55,7 +55,8 @@ std::string to_json_text(const RunRecord& record) {
                         {"train_seconds", s.train_seconds},
                         {"test_seconds", s.test_seconds},
                         {"context_ratio_mean", number_or_null(s.context_ratio_mean)},
-                        {"context_ratio_max", number_or_null(s.context_ratio_max)}});
+                        {"context_ratio_max", number_or_null(s.context_ratio_max)},
+                        {"diagnostics", s.diagnostics}});
   }
   const json document = {{"schema", kSchemaVersion},
                          {"method", record.method},
@@ -63,6 +64,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"profile", record.profile},
                          {"seed", record.seed},
                          {"threads", record.threads},
+                         {"evaluated_on", record.evaluated_on},
                          {"parameters", record.parameters},
                          {"machine", record.machine},
                          {"git_commit", record.git_commit},
@@ -94,6 +96,10 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.profile = document.at("profile").get<std::string>();
     record.seed = document.at("seed").get<std::uint64_t>();
     record.threads = document.at("threads").get<int>();
+    record.evaluated_on = document.value("evaluated_on", std::string("test"));
+    if (record.evaluated_on != "test" && record.evaluated_on != "validation") {
+      throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin, record.evaluated_on));
+    }
     record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
     record.machine = document.at("machine").get<std::map<std::string, std::string>>();
     record.git_commit = document.at("git_commit").get<std::string>();
@@ -127,6 +133,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       session.test_seconds = s.at("test_seconds").get<double>();
       session.context_ratio_mean = number_from(s.at("context_ratio_mean"));
       session.context_ratio_max = number_from(s.at("context_ratio_max"));
+      if (s.contains("diagnostics")) session.diagnostics = s.at("diagnostics").get<std::map<std::string, double>>();
       record.sessions.push_back(session);
     }
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));

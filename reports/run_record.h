@@ -19,6 +19,9 @@ struct SessionRecord {
   // Context-to-class dispersion of the test embeddings; NaN (null in JSON) when unknown.
   double context_ratio_mean = std::numeric_limits<double>::quiet_NaN();
   double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
+  // What the method reported while it trained this session (base validation accuracy after each
+  // stage, mean loss terms, PSPC's effective shots, ...).
+  std::map<std::string, double> diagnostics;
 };
 
 // The trained model's inference cost per sample, after the last session (rules in
@@ -39,6 +42,9 @@ struct RunRecord {
   std::string profile;
   std::uint64_t seed = 0;
   int threads = 0;
+  // The split every session was scored on: "test", or "validation" (the protocol defaults are
+  // chosen on). Files written before the choice existed were scored on test.
+  std::string evaluated_on = "test";
   std::map<std::string, std::string> parameters;  // every hyper-parameter and knob used
   std::map<std::string, std::string> machine;     // host, cores, compiler, torch version
   std::string git_commit;

@@ -36,6 +36,15 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
     if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
   }
   SummaryTable table;
+  if (!records.empty()) table.evaluated_on = records.front().evaluated_on;
+  for (const auto& record : records) {
+    if (record.evaluated_on != table.evaluated_on) {
+      throw ReportError(fmt::format("{} on {} seed {} was scored on the {} split, {} on {} seed {} on the {} split: "
+                                    "report them from separate directories", records.front().method,
+                                    records.front().dataset, records.front().seed, table.evaluated_on, record.method,
+                                    record.dataset, record.seed, record.evaluated_on));
+    }
+  }
   for (const auto& [method, dataset] : keys) {
     SummaryRow row;
     row.method = method;

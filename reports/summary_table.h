@@ -27,12 +27,14 @@ struct SummaryRow {
 
 struct SummaryTable {
   std::vector<SummaryRow> rows;  // in order of first appearance
+  std::string evaluated_on = "test";  // the split every run was scored on (RunRecord::evaluated_on)
   bool several_seeds() const;
   std::vector<std::string> datasets() const;
 };
 
 // Groups records by (method, dataset). Throws ReportError when runs of one group disagree on
-// the number of sessions or repeat a seed.
+// the number of sessions or repeat a seed, and when some runs were scored on the test split and
+// others on the validation split: one table never mixes the two.
 SummaryTable summarize_runs(const std::vector<RunRecord>& records);
 
 // Renderers of the same table: CSV for scripts, LaTeX in the paper's layout (best in bold),

@@ -76,7 +76,7 @@ std::string render_csv(const SummaryTable& table) {
   for (const auto& row : table.rows) all.push_back(&row);
   const std::size_t sessions = max_sessions(all);
   const bool with_std = table.several_seeds();
-  std::string out = "method,dataset,seeds,AA,PD,ADR";
+  std::string out = "method,dataset,split,seeds,AA,PD,ADR";
   for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}", s);
   if (with_std) {
     out += ",AA_std,PD_std,ADR_std";
@@ -86,7 +86,8 @@ std::string render_csv(const SummaryTable& table) {
   }
   out += "\n";
   for (const auto* row : all) {
-    out += fmt::format("{},{},{},{:.4f},{:.4f},{:.4f}", row->method, row->dataset, fmt::join(row->seeds, " "),
+    out += fmt::format("{},{},{},{},{:.4f},{:.4f},{:.4f}", row->method, row->dataset, table.evaluated_on,
+                       fmt::join(row->seeds, " "),
                        row->average_accuracy.mean, row->performance_drop.mean, row->average_drop_rate.mean);
     for (std::size_t s = 0; s < sessions; ++s) {
       out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].mean) : ",";
@@ -116,7 +117,7 @@ std::string render_latex(const SummaryTable& table) {
     const auto columns = paper_columns(max_sessions(rows));
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
-    out += fmt::format("\\caption{{Comparison on {}{}.}}\n", dataset,
+    out += fmt::format("\\caption{{Comparison on {}, {} split{}.}}\n", dataset, table.evaluated_on,
                        with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
     out += fmt::format("\\begin{{tabular}}{{l{}ccc}}\n\\toprule\n", std::string(sessions, 'c'));
     out += fmt::format("\\multirow{{2}}{{*}}{{Method}} & \\multicolumn{{{}}}{{c}}{{Accuracy in each session $\\uparrow$}}"
@@ -145,7 +146,7 @@ std::string render_markdown(const SummaryTable& table) {
   for (const auto& dataset : table.datasets()) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
-    out += fmt::format("### {}{}\n\n| method |", dataset, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
+    out += fmt::format("### {}, {} split{}\n\n| method |", dataset, table.evaluated_on, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
     for (const auto& column : columns) out += fmt::format(" {} |", column.title);
     out += "\n|---|";
     for (std::size_t c = 0; c < columns.size(); ++c) out += "---:|";

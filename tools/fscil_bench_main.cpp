@@ -72,6 +72,10 @@ int main(int argc, char** argv) {
                  "signals (auto: in memory up to 1 GiB)")->capture_default_str();
   app.add_option("--split-mode", run.split_mode, "recording (grouped, default) | segment")->capture_default_str();
   app.add_option("--class-order", run.class_order, "natural | shuffled (from the seed)")->capture_default_str();
+  app.add_option("--evaluate-on", run.evaluate_on,
+                 "test | validation: score every session on the test split, or on the validation split of every "
+                 "class (choose defaults there, never on test)")
+      ->capture_default_str();
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
   app.add_flag("--quiet", run.quiet, "no progress on stderr");
 

@@ -59,18 +59,18 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
 
 // Everything that shapes a run's numbers; a checkpoint or result file of another run is refused.
 std::string run_identity(const std::string& method, const std::string& dataset, const std::string& dataset_key,
-                         std::uint64_t seed, int threads, const std::string& profile,
+                         std::uint64_t seed, int threads, const std::string& profile, const std::string& evaluated_on,
                          std::map<std::string, std::string> parameters) {
   parameters.erase("base_training");  // how the base was obtained, not what it is
   std::string text;
   for (const auto& [key, value] : parameters) text += key + "=" + value + ";";
-  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} parameters={}", method, dataset,
-                     dataset_key, seed, threads, profile, stable_hash(text));
+  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} parameters={}", method,
+                     dataset, dataset_key, seed, threads, profile, evaluated_on, stable_hash(text));
 }
 
 std::string identity_of(const RunRecord& record) {
   return run_identity(record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
-                      record.parameters);
+                      record.evaluated_on, record.parameters);
 }
 
 fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
@@ -111,6 +111,7 @@ void run_benchmark(const RunOptions& options) {
   }
   ParameterSet protocol_params = params;
   const SplitMode split_mode = parse_split_mode(protocol_params.text("split_mode", "recording"));
+  const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
 
   DatasetRequest request;
   request.data_root = options.data_root;
@@ -132,6 +133,7 @@ void run_benchmark(const RunOptions& options) {
     try {
       schedules.push_back(build_session_schedule(dataset.segments, dataset.description.class_names, plan, split_mode,
                                                  seed));
+      schedules.back().scored_segments(evaluation);  // refuses, before any training, a split the data lacks
     } catch (const ProtocolError& error) {
       const std::string where = options.data_root.empty() ? "" : fmt::format(" in {}", options.data_root);
       throw ProtocolError(fmt::format("dataset {}{}, {}-way {}-shot: {}", options.dataset, where, plan.way, plan.shot,
@@ -150,6 +152,7 @@ void run_benchmark(const RunOptions& options) {
     std::unique_ptr<Method> method;
     std::string trained_by;
     double seconds = 0;
+    std::map<std::string, double> diagnostics;
   };
   std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
   const std::vector<RunRecord> finished = finished_runs(options);
@@ -163,7 +166,7 @@ void run_benchmark(const RunOptions& options) {
       for (const auto& [key, value] : dataset_params.used()) parameters[key] = value;
       for (const auto& [key, value] : protocol_params.used()) parameters[key] = value;
       const std::string identity = run_identity(method_names[m], options.dataset, dataset.cache_key, seeds[s], threads,
-                                                options.profile, parameters);
+                                                options.profile, to_string(evaluation), parameters);
       const fs::path checkpoint_file = checkpoint_path(options.out, method_names[m], options.dataset, seeds[s]);
       const auto done = std::find_if(finished.begin(), finished.end(), [&](const RunRecord& record) {
         return record.method == method_names[m] && record.dataset == options.dataset && record.seed == seeds[s];
@@ -188,7 +191,7 @@ void run_benchmark(const RunOptions& options) {
       reset_peak_resident();
       Stopwatch run_clock;
       const std::string base_key = method->shared_base_key();
-      std::optional<double> inherited_base_seconds;
+      std::optional<InheritedBase> inherited_base;
       std::string base_trained_by;
       SessionCheckpoints checkpoints;
       double seconds_before = 0;
@@ -210,7 +213,7 @@ void run_benchmark(const RunOptions& options) {
       } else if (auto found = trained_bases.find({base_key, seeds[s]});
                  !base_key.empty() && found != trained_bases.end() &&
                  method->continue_from_base(*found->second.method, context)) {
-        inherited_base_seconds = found->second.seconds;
+        inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics};
         base_trained_by = found->second.trained_by;
         progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
       }
@@ -218,7 +221,8 @@ void run_benchmark(const RunOptions& options) {
         save_checkpoint(checkpoint_file, {identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
                                           context.generator, torch_random_state()});
       };
-      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, inherited_base_seconds, checkpoints);
+      const auto outcomes =
+          run_sessions(*method, dataset, schedules[s], context, evaluation, inherited_base, checkpoints);
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);
 
@@ -228,13 +232,15 @@ void run_benchmark(const RunOptions& options) {
       record.profile = options.profile;
       record.seed = seeds[s];
       record.threads = threads;
+      record.evaluated_on = to_string(evaluation);
       record.parameters = parameters;
       record.machine = machine;
       record.git_commit = commit;
       record.dataset_key = dataset.cache_key;
       for (const auto& outcome : outcomes) {
         record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
-                                   outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max});
+                                   outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max,
+                                   outcome.diagnostics});
       }
       record.total_seconds = seconds_before + run_clock.seconds();
       record.peak_resident_bytes = peak_resident_bytes();
@@ -250,7 +256,7 @@ void run_benchmark(const RunOptions& options) {
       records.push_back(std::move(record));
       if (!base_key.empty()) {
         trained_bases[{base_key, seeds[s]}] = {std::move(method), base_trained_by.empty() ? method_names[m] : base_trained_by,
-                                               outcomes.front().train_seconds};
+                                               outcomes.front().train_seconds, outcomes.front().diagnostics};
       }
     }
   }

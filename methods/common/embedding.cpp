@@ -8,12 +8,13 @@ namespace fscil {
 
 namespace F = torch::nn::functional;
 
-torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size) {
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size,
+                               const InputNormHook& after_input_norm) {
   torch::NoGradGuard no_grad;
   const bool was_training = encoder->is_training();
   encoder->eval();
-  const torch::Tensor embeddings =
-      map_batches(features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward(batch); });
+  const torch::Tensor embeddings = map_batches(
+      features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward(batch, after_input_norm); });
   encoder->train(was_training);
   return embeddings;
 }

@@ -10,7 +10,9 @@
 namespace fscil {
 
 // Embeds in eval mode without gradients, in batches to bound memory; restores the train flag.
-torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256);
+// `after_input_norm` transforms each batch's map after bn0 (see InputNormHook).
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256,
+                               const InputNormHook& after_input_norm = {});
 
 // Mean embedding per class, rows in the order of `classes`.
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,

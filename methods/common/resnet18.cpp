@@ -97,16 +97,18 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
   }
 }
 
-torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x) {
+torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNormHook& after_input_norm) {
   torch::Tensor out;
   if (!is_training() && fold_norms_at_inference_) {
     // bn0 at inference: a scale and shift per Mel bin, broadcast over the contiguous input.
     const auto [scale, shift] = inference_affine(input_norm);
-    const torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
+    torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
+    if (after_input_norm) normalised = after_input_norm(normalised);
     out = folded_conv_norm(stem, stem_norm, normalised).relu_();
   } else {
     // bn0 normalises each Mel bin, so the bins become the channel axis for it.
     out = input_norm(x.transpose(1, 2)).transpose(1, 2);
+    if (after_input_norm) out = after_input_norm(out);
     out = stem_norm(stem(out)).relu_();
   }
   out = torch::max_pool2d(out, 3, 2, 1);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "metrics/model_cost.h"
@@ -35,12 +36,16 @@ class BasicBlockImpl : public torch::nn::Module {
 };
 TORCH_MODULE(BasicBlock);
 
+// A transform of the map right after the input norm bn0 (where PITS-SC's released code applies
+// its augmentations; cop-fscil's CPI in standardised units). Empty = none.
+using InputNormHook = std::function<torch::Tensor(const torch::Tensor&)>;
+
 // torchvision-style ResNet-18 on C x n_mels x frames log-Mel input, preceded by PITS-SC's
 // per-Mel-bin input BatchNorm ("bn0"); returns the globally pooled D-dimensional embedding.
 class ResNet18EncoderImpl : public torch::nn::Module {
  public:
   explicit ResNet18EncoderImpl(const ResNet18Options& options);
-  torch::Tensor forward(const torch::Tensor& x);
+  torch::Tensor forward(const torch::Tensor& x, const InputNormHook& after_input_norm = {});
   std::int64_t embedding_size() const { return embedding_size_; }
   // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
   void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;

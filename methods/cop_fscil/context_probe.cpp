@@ -2,6 +2,7 @@
 
 #include <ATen/CPUGeneratorImpl.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "methods/common/mixing.h"
@@ -31,10 +32,12 @@ torch::Tensor padded_shift(const torch::Tensor& features, const std::vector<std:
 
 }  // namespace
 
-torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& ranges, std::mt19937_64& generator) {
+torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& ranges, bool in_sample_spread_units,
+                          std::mt19937_64& generator) {
   const std::int64_t n = features.size(0), channels = features.size(1), mels = features.size(2),
                      frames = features.size(3);
-  const torch::Tensor spread = features.flatten(1).std(1).view({n, 1, 1, 1});
+  const torch::Tensor spread = in_sample_spread_units ? features.flatten(1).std(1).view({n, 1, 1, 1})
+                                                      : torch::ones({n, 1, 1, 1}, features.options());
   const torch::Tensor global = uniform_draws(n, ranges.global_bias, generator).view({n, 1, 1, 1});
   const torch::Tensor channel = uniform_draws(n * channels, ranges.channel_bias, generator).view({n, channels, 1, 1});
   const torch::Tensor tilt = uniform_draws(n, ranges.tilt, generator).view({n, 1, 1, 1});
@@ -73,10 +76,19 @@ void ContextStatisticBank::push(const torch::Tensor& statistics) {
   }
 }
 
-torch::Tensor ContextStatisticBank::farthest_from(const torch::Tensor& statistics) const {
+torch::Tensor ContextStatisticBank::farthest_from(const torch::Tensor& statistics, std::int64_t rank,
+                                                  bool standardised) const {
   TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
-  const torch::Tensor queries = statistics.detach().view({-1, entries_.size(1)});
-  return stored().index_select(0, torch::cdist(queries, stored()).argmax(1));
+  torch::Tensor queries = statistics.detach().view({-1, entries_.size(1)});
+  torch::Tensor candidates = stored();
+  if (standardised && count_ > 1) {
+    const torch::Tensor scale = candidates.std(0, /*unbiased=*/true, /*keepdim=*/true).clamp_min(1e-6);
+    queries = queries / scale;
+    candidates = candidates / scale;
+  }
+  const std::int64_t k = std::min(rank, count_ - 1) + 1;
+  const torch::Tensor ranked = std::get<1>(torch::cdist(queries, candidates).topk(k, 1));
+  return stored().index_select(0, ranked.select(1, k - 1));
 }
 
 torch::Tensor ContextStatisticBank::random_entries(std::int64_t n, std::mt19937_64& generator) const {
@@ -88,7 +100,7 @@ torch::Tensor ContextStatisticBank::random_entries(std::int64_t n, std::mt19937_
 }
 
 torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextStatisticBank& bank,
-                                  ReferenceChoice choice, double alpha, std::mt19937_64& generator) {
+                                  const ContextProbeSettings& settings, std::int64_t rank, std::mt19937_64& generator) {
   const std::int64_t n = features.size(0), channels = features.size(1);
   const torch::Tensor own = channel_statistics(features);
   torch::Tensor reference;
@@ -98,10 +110,12 @@ torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextSt
     for (auto& index : picked) index = draw(generator);
     reference = own.index_select(0, torch::tensor(picked));
   } else {
-    reference = choice == ReferenceChoice::farthest ? bank.farthest_from(own) : bank.random_entries(n, generator);
+    reference = settings.reference == ReferenceChoice::farthest
+                    ? bank.farthest_from(own, settings.ranked_references ? rank : 0, settings.standardised_distance)
+                    : bank.random_entries(n, generator);
   }
   std::vector<float> lambdas(static_cast<std::size_t>(n));
-  for (auto& lambda : lambdas) lambda = static_cast<float>(sample_beta(alpha, alpha, generator));
+  for (auto& lambda : lambdas) lambda = static_cast<float>(sample_beta(settings.mix_alpha, settings.mix_alpha, generator));
   const torch::Tensor lambda = torch::tensor(lambdas).view({n, 1});
   const torch::Tensor mixed = lambda * own + (1 - lambda) * reference;
   const auto shape = std::vector<std::int64_t>{n, channels, 1, 1};
@@ -111,9 +125,10 @@ torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextSt
          mixed.narrow(1, 0, channels).reshape(shape);
 }
 
-torch::Tensor ContextProbe::intervene(const torch::Tensor& features, std::mt19937_64& generator) const {
+torch::Tensor ContextProbe::intervene(const torch::Tensor& features, std::mt19937_64& generator,
+                                       std::int64_t rank) const {
   torch::NoGradGuard no_grad;
-  return transfer_statistics(view(features, generator), bank_, settings_.reference, settings_.mix_alpha, generator);
+  return transfer_statistics(view(features.detach(), generator), bank_, settings_, rank, generator);
 }
 
 }  // namespace fscil

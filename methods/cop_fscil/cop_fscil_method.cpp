@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "methods/common/batch_norm_statistics.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_state.h"
 #include "methods/common/running_statistics_guard.h"
@@ -23,8 +24,8 @@ void CopFscilMethod::build_network(RunContext& context) {
   PitsScMethod::build_network(context);
   if (!components_.pcqa) return;
   const std::int64_t dim = encoder_->embedding_size();
-  const auto invariant = static_cast<std::int64_t>(std::lround(cop_settings_.invariant_fraction * dim));
-  adapter_ = QuotientAdapter(QuotientAdapterOptions{dim, cop_settings_.reflections, std::max<std::int64_t>(1, invariant)});
+  adapter_ = QuotientAdapter(
+      QuotientAdapterOptions{dim, cop_settings_.reflections, dim - cop_settings_.sensitive_dim_for(dim)});
 }
 
 std::vector<torch::Tensor> CopFscilMethod::network_parameters() {
@@ -35,9 +36,39 @@ std::vector<torch::Tensor> CopFscilMethod::network_parameters() {
   return parameters;
 }
 
-TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& features, RunContext& context) {
-  if (!components_.pcqa) return PitsScMethod::training_embedding(features, context);
-  const bool with_pic = cop_settings_.pic_weight > 0 && cop_settings_.pic_probes > 0;
+torch::Tensor CopFscilMethod::encode(const torch::Tensor& features, const InputNormHook& probe) {
+  if (!probe) return encoder_->forward(features);
+  if (cop_settings_.cpi.space == ProbeSpace::raw) return encoder_->forward(probe(features));
+  return encoder_->forward(features, probe);
+}
+
+torch::Tensor CopFscilMethod::encode_for_inference(const torch::Tensor& features, const InputNormHook& probe) {
+  if (probe && cop_settings_.cpi.space == ProbeSpace::raw) {
+    torch::NoGradGuard no_grad;
+    return embed_in_batches(encoder_, probe(features));
+  }
+  return embed_in_batches(encoder_, features, 256, probe);
+}
+
+TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
+                                                     RunContext& context) {
+  // The batch's own probes (the rows CPI replaces) are drawn once, where CPI acts, by the first
+  // forward that reaches that map; the clean map's statistics join the bank just before, so the
+  // bank only ever holds real samples. L_PIC's probe forwards see the same map as the original.
+  bool drawn = false;
+  torch::Tensor batch_probes;  // undefined when no row is probed
+  const auto probed = [&](const torch::Tensor& map) {
+    if (!drawn) {
+      drawn = true;
+      probe_.observe(map);
+      if (probe_rows.defined() && probe_rows.numel() > 0) {
+        batch_probes = probe_.intervene(map.index_select(0, probe_rows), context.generator);
+      }
+    }
+    return batch_probes.defined() ? map.index_copy(0, probe_rows, batch_probes) : map;
+  };
+
+  const bool with_pic = components_.pcqa && cop_settings_.pic_weight > 0 && cop_settings_.pic_probes > 0;
   std::vector<torch::Tensor> probe_embeddings;
   if (with_pic) {
     // The probe branch carries no gradient (L_PIC's stop-gradient), so it runs without a graph,
@@ -47,55 +78,101 @@ TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& featur
     torch::NoGradGuard no_grad;
     const RunningStatisticsGuard keep_statistics(*encoder_);
     for (int n = 0; n < cop_settings_.pic_probes; ++n) {
-      probe_embeddings.push_back(encoder_->forward(probe_.intervene(features, context.generator)));
+      probe_embeddings.push_back(encode(features, [&](const torch::Tensor& map) {
+        return probe_.intervene(probed(map), context.generator, n);
+      }));
     }
   }
-  const torch::Tensor original = encoder_->forward(features);
+  const torch::Tensor original = encode(features, probed);
+  if (!components_.pcqa) return {original, {}};
   const torch::Tensor reflections = adapter_->reflections_of(original);
   const auto projection = adapter_->project(reflections, original);
   TrainingEmbedding result{projection.quotient, {}};
   if (with_pic) {
+    namespace F = torch::nn::functional;
+    const auto unit = F::NormalizeFuncOptions().dim(1);
+    const auto in_pic_space = [&](const torch::Tensor& z) { return cop_settings_.pic_normalised ? F::normalize(z, unit) : z; };
     std::vector<torch::Tensor> probe_invariants;
     {
       torch::NoGradGuard no_grad;
       for (const auto& probe : probe_embeddings) {
-        probe_invariants.push_back(adapter_->project(reflections.detach(), probe).invariant);
+        probe_invariants.push_back(adapter_->project(reflections.detach(), in_pic_space(probe)).invariant);
       }
     }
-    result.side_loss =
-        cop_settings_.pic_weight * probe_invariance_loss(projection.invariant, torch::stack(probe_invariants));
+    const torch::Tensor invariant =
+        cop_settings_.pic_normalised ? adapter_->project(reflections, in_pic_space(original)).invariant
+                                     : projection.invariant;
+    result.side_loss = cop_settings_.pic_weight * probe_invariance_loss(invariant, torch::stack(probe_invariants));
   }
-  if (!bank_fed_by_episodes_) probe_.observe(features);
   return result;
 }
 
-void CopFscilMethod::intervene_on_share(torch::Tensor& features, const std::vector<std::int64_t>& rows, double share,
-                                        std::mt19937_64& generator) {
-  std::vector<std::int64_t> chosen = rows;
-  shuffle_with(chosen, generator);
-  chosen.resize(static_cast<std::size_t>(std::lround(share * static_cast<double>(rows.size()))));
-  if (chosen.empty()) return;
-  const torch::Tensor index = torch::tensor(chosen);
-  features = features.index_copy(0, index, probe_.intervene(features.index_select(0, index), generator));
+namespace {
+
+// A random `share` of `rows` (rounded), in random order.
+std::vector<std::int64_t> random_share(std::vector<std::int64_t> rows, double share, std::mt19937_64& generator) {
+  shuffle_with(rows, generator);
+  rows.resize(static_cast<std::size_t>(std::lround(share * static_cast<double>(rows.size()))));
+  return rows;
+}
+
+// Rows of `count` samples in blocks of `per_class`: the first `shots` of each block are support
+// samples, the rest queries; each part contributes its own random share.
+std::vector<std::int64_t> support_and_query_share(std::int64_t count, std::int64_t per_class, std::int64_t shots,
+                                                  double support_share, double query_share,
+                                                  std::mt19937_64& generator) {
+  std::vector<std::int64_t> support, query;
+  for (std::int64_t i = 0; i < count; ++i) (i % per_class < shots ? support : query).push_back(i);
+  std::vector<std::int64_t> chosen = random_share(support, support_share, generator);
+  const std::vector<std::int64_t> chosen_queries = random_share(query, query_share, generator);
+  chosen.insert(chosen.end(), chosen_queries.begin(), chosen_queries.end());
+  return chosen;
+}
+
+torch::Tensor rows_tensor(const std::vector<std::int64_t>& rows) {
+  return rows.empty() ? torch::Tensor() : torch::tensor(rows, torch::kLong);
+}
+
+}  // namespace
+
+torch::Tensor CopFscilMethod::pretraining_probe_rows(std::int64_t batch, RunContext& context) {
+  if (cop_settings_.pretrain_coverage == 0) return {};
+  std::vector<std::int64_t> rows(static_cast<std::size_t>(batch));
+  std::iota(rows.begin(), rows.end(), 0);
+  return rows_tensor(random_share(rows, cop_settings_.pretrain_coverage, context.generator));
 }
 
 void CopFscilMethod::perturb_episode(PitEpisode& episode, RunContext& context) {
-  bank_fed_by_episodes_ = true;
-  probe_.observe(episode.kept_features);
-  probe_.observe(episode.mixed_features);
   const auto pairs = static_cast<std::int64_t>(episode.first_class.size());
   const std::int64_t per_class = episode.mixed_features.size(0) / pairs;
-  const std::int64_t queries = episode.query_labels.size(0) / pairs;
-  const std::int64_t shots = per_class - queries;
-  std::vector<std::int64_t> support_rows, query_rows;
-  for (std::int64_t j = 0; j < pairs; ++j) {
-    for (std::int64_t i = 0; i < per_class; ++i) (i < shots ? support_rows : query_rows).push_back(j * per_class + i);
+  const std::int64_t shots = per_class - episode.query_labels.size(0) / pairs;
+  episode.mixed_probe_rows = rows_tensor(support_and_query_share(
+      episode.mixed_features.size(0), per_class, shots, cop_settings_.support_coverage, cop_settings_.query_coverage,
+      context.generator));
+  const std::int64_t kept = episode.kept_features.size(0);
+  switch (cop_settings_.kept) {
+    case KeptCoverage::query:
+      episode.kept_probe_rows = rows_tensor(
+          support_and_query_share(kept, per_class, 0, 0.0, cop_settings_.query_coverage, context.generator));
+      break;
+    case KeptCoverage::split:
+      episode.kept_probe_rows = rows_tensor(support_and_query_share(
+          kept, per_class, shots, cop_settings_.support_coverage, cop_settings_.query_coverage, context.generator));
+      break;
+    case KeptCoverage::clean:
+      break;
   }
-  std::vector<std::int64_t> kept_rows(static_cast<std::size_t>(episode.kept_features.size(0)));
-  std::iota(kept_rows.begin(), kept_rows.end(), 0);
-  intervene_on_share(episode.mixed_features, support_rows, cop_settings_.support_coverage, context.generator);
-  intervene_on_share(episode.mixed_features, query_rows, cop_settings_.query_coverage, context.generator);
-  intervene_on_share(episode.kept_features, kept_rows, cop_settings_.query_coverage, context.generator);
+}
+
+bool CopFscilMethod::episodes_keep_running_statistics() const {
+  return cop_settings_.episode_statistics == EpisodeStatistics::guarded;
+}
+
+void CopFscilMethod::after_pseudo_incremental(const SessionData& base, RunContext& context) {
+  if (cop_settings_.episode_statistics != EpisodeStatistics::reestimate || settings().pit.epochs == 0) return;
+  report_validation(context, "pseudo_incremental_before_reestimation");
+  reestimate_batch_norm_statistics(*encoder_, base.features, 256,
+                                   [&](const torch::Tensor& batch) { encoder_->forward(batch); });
 }
 
 torch::Tensor CopFscilMethod::embed(const torch::Tensor& features) {
@@ -115,19 +192,32 @@ int CopFscilMethod::probes_per_support_sample(const InputShape& input) const {
   return default_pspc_probes(input.channels * input.mel_bins * input.frames);
 }
 
-torch::Tensor CopFscilMethod::probe_embeddings(const torch::Tensor& features, int probes,
-                                               std::mt19937_64& generator) {
+torch::Tensor CopFscilMethod::view_probe_embeddings(const torch::Tensor& features, int probes,
+                                                    std::mt19937_64& generator) {
   const std::int64_t n = features.size(0);
   const std::int64_t per_chunk = std::max<std::int64_t>(1, 256 / n);  // forwards of about 256 samples
+  const InputNormHook view = [&](const torch::Tensor& map) { return probe_.view(map, generator); };
   std::vector<torch::Tensor> parts;
   for (std::int64_t first = 0; first < probes; first += per_chunk) {
-    std::vector<torch::Tensor> views;
-    for (std::int64_t k = first; k < std::min<std::int64_t>(probes, first + per_chunk); ++k) {
-      views.push_back(probe_.view(features, generator));
-    }
-    parts.push_back(embed(torch::cat(views)).view({static_cast<std::int64_t>(views.size()), n, -1}));
+    const std::int64_t copies = std::min<std::int64_t>(probes - first, per_chunk);
+    const torch::Tensor repeated = features.repeat({copies, 1, 1, 1});
+    parts.push_back(encode_for_inference(repeated, view).view({copies, n, -1}));
   }
   return torch::cat(parts);
+}
+
+std::pair<torch::Tensor, torch::Tensor> CopFscilMethod::pspc_embeddings(const torch::Tensor& original,
+                                                                        const torch::Tensor& probes) {
+  if (!components_.pcqa) return {original, probes};
+  torch::NoGradGuard no_grad;
+  const std::int64_t count = probes.size(0), n = probes.size(1);
+  const torch::Tensor flat = probes.reshape({count * n, -1});
+  if (!cop_settings_.pspc_q_from_original) return {adapter_->forward(original), adapter_->forward(flat).view(probes.sizes())};
+  // Q_i from z_i^(0) for every probe of sample i, as PCQA maps probes (and as L_PIC does).
+  const torch::Tensor reflections = adapter_->reflections_of(original);
+  const torch::Tensor repeated = reflections.repeat({count, 1, 1});
+  return {adapter_->project(reflections, original).quotient,
+          adapter_->project(repeated, flat).quotient.view(probes.sizes())};
 }
 
 void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
@@ -148,7 +238,6 @@ bool CopFscilMethod::continue_from_base(Method& trained, RunContext& context) {
   classifier_ = source->classifier_;
   adapter_ = source->adapter_;
   probe_ = source->probe_;
-  bank_fed_by_episodes_ = source->bank_fed_by_episodes_;
   base_state_ = source->base_state_;
   base_state_->classifier.restore_into(*classifier_);
   stored_means_ = base_state_->stored_means.clone();
@@ -185,11 +274,16 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
   }
   check_session_order(support);
   const torch::Tensor shots = support.features.all();
-  const torch::Tensor original = embed(shots);
-  const torch::Tensor probes = probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
+  const torch::Tensor encoded = encode_for_inference(shots, {});
+  const torch::Tensor encoded_probes =
+      view_probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
+  const auto [original, probes] = pspc_embeddings(encoded, encoded_probes);
   const torch::Tensor weights =
-      stability_weights(probe_instability(original, probes), support.labels, cop_settings_.pspc_beta);
-  const torch::Tensor new_means = calibrated_prototypes(original, probes, weights, support.labels, support.new_classes);
+      stability_weights(probe_instability(original, probes, cop_settings_.pspc_instability_normalised),
+                        support.labels, cop_settings_.pspc_beta);
+  context.diagnostics["pspc_effective_shots"] = effective_shots(weights, support.labels);
+  const torch::Tensor new_means = calibrated_prototypes(original, probes, weights, support.labels,
+                                                        support.new_classes, cop_settings_.pspc_mean_of_views);
   const std::int64_t old_classes = seen_classes_;
   classifier_->set_mu_rows(old_classes, new_means);
   seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());

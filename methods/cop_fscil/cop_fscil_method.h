@@ -10,7 +10,8 @@
 namespace fscil {
 
 // CoP-FSCIL (the seed paper) on the PITS-SC stages:
-// - CPI perturbs a share of each pseudo-incremental episode's support and query samples;
+// - CPI perturbs a share of each pseudo-incremental episode's support and query samples, on the
+//   map after bn0 (cpi_space=standardised) or on the dB input (raw);
 // - PCQA (optional) sits after the encoder, trained with L_CE + lambda L_PIC in both base
 //   stages, and every classification uses its output z_hat;
 // - PSPC (optional) builds each new prototype from probe-stability weights and fine-tunes with
@@ -37,23 +38,28 @@ class CopFscilMethod : public PitsScMethod {
  protected:
   void build_network(RunContext& context) override;
   std::vector<torch::Tensor> network_parameters() override;
-  TrainingEmbedding training_embedding(const torch::Tensor& features, RunContext& context) override;
+  TrainingEmbedding training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
+                                       RunContext& context) override;
+  torch::Tensor pretraining_probe_rows(std::int64_t batch, RunContext& context) override;
   void perturb_episode(PitEpisode& episode, RunContext& context) override;
+  bool episodes_keep_running_statistics() const override;
+  void after_pseudo_incremental(const SessionData& base, RunContext& context) override;
+  // PSPC's z_hat of the originals' encoder embeddings (N x D) and of their probes' (N_ps x N x D).
+  std::pair<torch::Tensor, torch::Tensor> pspc_embeddings(const torch::Tensor& original, const torch::Tensor& probes);
 
  private:
-  // N_ps probe embeddings of every support sample: N_ps x N x D.
-  torch::Tensor probe_embeddings(const torch::Tensor& features, int probes, std::mt19937_64& generator);
-  // Replaces a random `share` of the rows of `features` by their CPI probes.
-  void intervene_on_share(torch::Tensor& features, const std::vector<std::int64_t>& rows, double share,
-                          std::mt19937_64& generator);
+  // The encoder's embedding in training mode with `probe` applied where CPI acts: to the input
+  // (cpi_space=raw) or to the map after bn0 (standardised). An empty probe changes nothing.
+  torch::Tensor encode(const torch::Tensor& features, const InputNormHook& probe);
+  // The same in eval mode, without gradients, in batches.
+  torch::Tensor encode_for_inference(const torch::Tensor& features, const InputNormHook& probe);
+  // PSPC: the encoder's embeddings of N_ps random-view probes of every support sample: N_ps x N x D.
+  torch::Tensor view_probe_embeddings(const torch::Tensor& features, int probes, std::mt19937_64& generator);
 
   CopFscilSettings cop_settings_;
   CopFscilComponents components_;
   ContextProbe probe_;
   QuotientAdapter adapter_{nullptr};
-  // Pretraining batches reach the statistic bank through training_embedding; from the first
-  // episode on, perturb_episode feeds it each episode's unperturbed samples instead.
-  bool bank_fed_by_episodes_ = false;
   // What sessions change, as train_base left it: the classifier, the stored means and the
   // random state (the encoder, bn0, adapter and probe bank are frozen after the base session).
   struct BaseState {

@@ -16,8 +16,8 @@ torch::Tensor apply_q_transpose(const torch::Tensor& reflections, const torch::T
 
 struct QuotientAdapterOptions {
   std::int64_t dim = 256;
-  std::int64_t reflections = 8;        // m (ours)
-  std::int64_t invariant_dim = 192;    // d_inv = 3D/4 (ours)
+  std::int64_t reflections = 8;        // m
+  std::int64_t invariant_dim = 192;    // d_inv = D - d_sen
 };
 
 // PCQA, the probe-conditioned quotient adapter of CoP-FSCIL: an observation network

@@ -2,8 +2,11 @@
 
 namespace fscil {
 
-torch::Tensor probe_instability(const torch::Tensor& original, const torch::Tensor& probes) {
-  return (probes - original.unsqueeze(0)).pow(2).sum(2).mean(0);
+torch::Tensor probe_instability(const torch::Tensor& original, const torch::Tensor& probes, bool normalised) {
+  namespace F = torch::nn::functional;
+  if (!normalised) return (probes - original.unsqueeze(0)).pow(2).sum(2).mean(0);
+  const auto unit = F::NormalizeFuncOptions().dim(-1);
+  return (F::normalize(probes, unit) - F::normalize(original, unit).unsqueeze(0)).pow(2).sum(2).mean(0);
 }
 
 torch::Tensor stability_weights(const torch::Tensor& instability, const torch::Tensor& labels, double beta) {
@@ -16,10 +19,20 @@ torch::Tensor stability_weights(const torch::Tensor& instability, const torch::T
   return weights;
 }
 
+double effective_shots(const torch::Tensor& weights, const torch::Tensor& labels) {
+  const torch::Tensor classes = std::get<0>(torch::_unique(labels));
+  double sum = 0;
+  for (std::int64_t k = 0; k < classes.size(0); ++k) {
+    sum += 1.0 / weights.index({labels == classes[k]}).pow(2).sum().item<double>();
+  }
+  return sum / static_cast<double>(classes.size(0));
+}
+
 torch::Tensor calibrated_prototypes(const torch::Tensor& original, const torch::Tensor& probes,
                                     const torch::Tensor& weights, const torch::Tensor& labels,
-                                    const std::vector<std::int64_t>& classes) {
-  const torch::Tensor mean_views = (original + probes.sum(0)) / static_cast<double>(probes.size(0) + 1);
+                                    const std::vector<std::int64_t>& classes, bool mean_of_views) {
+  const torch::Tensor mean_views =
+      mean_of_views ? (original + probes.sum(0)) / static_cast<double>(probes.size(0) + 1) : original;
   std::vector<torch::Tensor> rows;
   for (std::int64_t label : classes) {
     const torch::Tensor mask = labels == label;

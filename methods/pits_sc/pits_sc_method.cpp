@@ -3,11 +3,13 @@
 #include <fmt/format.h>
 
 #include <numeric>
+#include <optional>
 
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/module_state.h"
 #include "methods/common/mixing.h"
+#include "methods/common/running_statistics_guard.h"
 #include "methods/common/supervised_training.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
@@ -23,7 +25,9 @@ void PitsScMethod::build_network(RunContext& context) {
   classifier_ = StochasticClassifier(context.total_classes, encoder_->embedding_size(), settings_.temperature);
 }
 
-TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, RunContext& /*context*/) {
+TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
+                                                   RunContext& /*context*/) {
+  if (probe_rows.defined()) throw MethodError("pits-sc has no probes to replace rows with");
   return {encoder_->forward(features), {}};
 }
 
@@ -33,8 +37,9 @@ void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
   reset_base_rows(base, context);
   report_validation(context, "pretraining");
   train_pseudo_incremental(base, context);
+  after_pseudo_incremental(base, context);
   reset_base_rows(base, context);
-  report_validation(context, "pseudo-incremental training");
+  report_validation(context, "pseudo_incremental");
 }
 
 void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
@@ -44,23 +49,28 @@ void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
   parameters.push_back(classifier_->mu);
   const std::int64_t classes = context.base_classes;
   std::bernoulli_distribution use_cutmix(settings_.p_cutmix);
-  const auto with_side_loss = [](const TrainingEmbedding& embedded, torch::Tensor loss) {
-    return embedded.side_loss.defined() ? loss + embedded.side_loss : loss;
+  LossPartMeans means;
+  const auto parts_of = [&](const TrainingEmbedding& embedded, torch::Tensor classification) {
+    const LossParts parts{std::move(classification), embedded.side_loss};
+    means.add(parts);
+    return parts.total();
   };
   const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
     if (!use_cutmix(context.generator)) {
-      const TrainingEmbedding embedded = training_embedding(features, context);
-      return with_side_loss(embedded,
-                            F::cross_entropy(classifier_->forward(embedded.embedding, classes, false), labels));
+      const TrainingEmbedding embedded =
+          training_embedding(features, pretraining_probe_rows(features.size(0), context), context);
+      return parts_of(embedded, F::cross_entropy(classifier_->forward(embedded.embedding, classes, false), labels));
     }
     const CutMixBatch mixed = cutmix(features, labels, settings_.cutmix_alpha, context.generator);
-    const TrainingEmbedding embedded = training_embedding(mixed.features, context);
+    const TrainingEmbedding embedded =
+        training_embedding(mixed.features, pretraining_probe_rows(features.size(0), context), context);
     const torch::Tensor logits = classifier_->forward(embedded.embedding, classes, false);
-    if (!settings_.cutmix_loss_mixed) return with_side_loss(embedded, F::cross_entropy(logits, labels));  // released
-    return with_side_loss(embedded, mixed.kept_fraction * F::cross_entropy(logits, labels) +
-                                        (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels));
+    if (!settings_.cutmix_loss_mixed) return parts_of(embedded, F::cross_entropy(logits, labels));  // released
+    return parts_of(embedded, mixed.kept_fraction * F::cross_entropy(logits, labels) +
+                                  (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels));
   };
   train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
+  means.record(context.diagnostics, "pretraining");
 }
 
 void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext& context) {
@@ -68,9 +78,10 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
   const PitEpisodeSampler sampler(base, context.base_classes, context.total_classes, settings_);
   std::vector<torch::Tensor> parameters = network_parameters();
   for (const auto& parameter : classifier_->parameters()) parameters.push_back(parameter);
-  const TrainingEmbedder embedder = [&](const torch::Tensor& features) {
-    return training_embedding(features, context);
+  const TrainingEmbedder embedder = [&](const torch::Tensor& features, const torch::Tensor& probe_rows) {
+    return training_embedding(features, probe_rows, context);
   };
+  LossPartMeans means;
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, settings_.pit);
   encoder_->train();
   classifier_->train();
@@ -80,17 +91,22 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
     for (int e = 0; e < settings_.pit_episodes; ++e) {
       PitEpisode episode = sampler.draw(context.generator, context.front_end);
       perturb_episode(episode, context);
-      const torch::Tensor loss = pit_episode_loss(embedder, classifier_, episode, sampler.shape(),
-                                                  context.base_classes, context.total_classes);
+      std::optional<RunningStatisticsGuard> keep_statistics;
+      if (episodes_keep_running_statistics()) keep_statistics.emplace(*encoder_);
+      const LossParts parts = pit_episode_loss(embedder, classifier_, episode, sampler.shape(), context.base_classes,
+                                               context.total_classes);
+      const torch::Tensor loss = parts.total();
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
+      means.add(parts);
       loss_sum += loss.item<double>();
     }
     if (context.progress != nullptr) {
       context.progress->epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, loss_sum / settings_.pit_episodes);
     }
   }
+  means.record(context.diagnostics, "pseudo_incremental");
 }
 
 void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context) {
@@ -104,9 +120,12 @@ void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context)
 }
 
 void PitsScMethod::report_validation(RunContext& context, const std::string& stage) {
-  if (context.validation == nullptr || context.progress == nullptr) return;
-  context.progress->note(
-      fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy_on(*context.validation)));
+  if (context.validation == nullptr) return;
+  const double accuracy = accuracy_on(*context.validation);
+  context.diagnostics["base_validation_after_" + stage] = accuracy;
+  if (context.progress != nullptr) {
+    context.progress->note(fmt::format("base validation accuracy after {}: {:.2f}%", stage, accuracy));
+  }
 }
 
 void PitsScMethod::check_session_order(const SessionData& support) const {

@@ -33,10 +33,22 @@ class PitsScMethod : public Method {
   // Builds the modules for this protocol; cop-fscil adds its adapter.
   virtual void build_network(RunContext& context);
   virtual std::vector<torch::Tensor> network_parameters() { return encoder_->parameters(); }
-  // A batch through the network in training mode; cop-fscil adds PCQA and L_PIC.
-  virtual TrainingEmbedding training_embedding(const torch::Tensor& features, RunContext& context);
-  // Each pseudo-incremental episode passes here before its loss; cop-fscil applies CPI.
+  // A batch through the network in training mode, `probe_rows` (undefined = none) replaced by
+  // probes inside the network; cop-fscil adds CPI, PCQA and L_PIC.
+  virtual TrainingEmbedding training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
+                                               RunContext& context);
+  // Rows of a pretraining batch of `batch` samples to probe (cop-fscil's CPI during pretraining).
+  virtual torch::Tensor pretraining_probe_rows(std::int64_t /*batch*/, RunContext& /*context*/) { return {}; }
+  // Each pseudo-incremental episode passes here before its loss; cop-fscil chooses CPI's rows.
   virtual void perturb_episode(PitEpisode& /*episode*/, RunContext& /*context*/) {}
+  // True when episodes must leave the batch-norm running statistics as they found them.
+  virtual bool episodes_keep_running_statistics() const { return false; }
+  // After pseudo-incremental training, before the base rows are reset (cop-fscil may re-estimate
+  // the batch-norm statistics on clean base data here).
+  virtual void after_pseudo_incremental(const SessionData& /*base*/, RunContext& /*context*/) {}
+  // Base validation accuracy into the run's diagnostics (`base_validation_after_<stage>`) and
+  // the progress notes.
+  void report_validation(RunContext& context, const std::string& stage);
   // The first new class must follow the seen ones.
   void check_session_order(const SessionData& support) const;
 
@@ -51,7 +63,6 @@ class PitsScMethod : public Method {
   void train_pseudo_incremental(const SessionData& base, RunContext& context);
   // Base rows of mu = base class-mean embeddings; also stores them as the old-class means.
   void reset_base_rows(const SessionData& base, RunContext& context);
-  void report_validation(RunContext& context, const std::string& stage);
 
   PitsScSettings settings_;
 };

@@ -96,11 +96,11 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
   return episode;
 }
 
-torch::Tensor pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
-                               const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
-                               int total_classes) {
-  const TrainingEmbedding kept = embedder(episode.kept_features);
-  const TrainingEmbedding mixed_batch = embedder(episode.mixed_features);
+LossParts pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
+                           const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
+                           int total_classes) {
+  const TrainingEmbedding kept = embedder(episode.kept_features, episode.kept_probe_rows);
+  const TrainingEmbedding mixed_batch = embedder(episode.mixed_features, episode.mixed_probe_rows);
   const torch::Tensor& kept_embeddings = kept.embedding;
   const torch::Tensor mixed = mixed_batch.embedding.view({shape.pairs, shape.per_class(), -1});
   const torch::Tensor prototypes = mixed.narrow(1, 0, shape.shot).mean(1).detach();
@@ -109,12 +109,13 @@ torch::Tensor pit_episode_loss(const TrainingEmbedder& embedder, StochasticClass
   const torch::Tensor queries = mixed.narrow(1, shape.shot, shape.query).reshape({shape.pairs * shape.query, -1});
   const torch::Tensor logits = torch::cat({classifier->forward(kept_embeddings, total_classes, true),
                                            classifier->forward(queries, total_classes, true)});
-  torch::Tensor loss =
+  LossParts loss;
+  loss.classification =
       torch::nn::functional::cross_entropy(logits, torch::cat({episode.kept_labels, episode.query_labels}));
   if (kept.side_loss.defined()) {
     const double kept_share = static_cast<double>(kept_embeddings.size(0)) /
                               static_cast<double>(kept_embeddings.size(0) + mixed_batch.embedding.size(0));
-    loss = loss + kept_share * kept.side_loss + (1 - kept_share) * mixed_batch.side_loss;
+    loss.side = kept_share * kept.side_loss + (1 - kept_share) * mixed_batch.side_loss;
   }
   return loss;
 }

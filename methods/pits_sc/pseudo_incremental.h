@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "methods/common/loss_parts.h"
 #include "methods/common/resnet18.h"
 #include "methods/common/stochastic_classifier.h"
 #include "methods/method.h"
@@ -32,6 +33,9 @@ struct PitEpisode {
   double lambda = 0;
   std::vector<std::int64_t> novel_rows;  // per pair: the classifier row its prototype goes to
   torch::Tensor query_labels;            // pair j's queries carry novel_rows[j]
+  // Rows the method's network replaces by probes of themselves (cop-fscil's CPI): indices into
+  // kept_features and mixed_features; undefined = none (PITS-SC).
+  torch::Tensor kept_probe_rows, mixed_probe_rows;
 };
 
 using FrontEnd = std::function<torch::Tensor(const torch::Tensor&)>;
@@ -60,14 +64,17 @@ struct TrainingEmbedding {
   torch::Tensor embedding;
   torch::Tensor side_loss;
 };
-using TrainingEmbedder = std::function<TrainingEmbedding(const torch::Tensor& features)>;
+// A batch through the network in training mode; `probe_rows` (undefined = none) are replaced by
+// probes of themselves inside the network.
+using TrainingEmbedder =
+    std::function<TrainingEmbedding(const torch::Tensor& features, const torch::Tensor& probe_rows)>;
 
 // The episode's loss: the mean embedding of each pair's mixed shots (no gradient) becomes its
 // novel row of mu (other novel rows zero); one cross-entropy with the stochastic classifier
 // over every row, on the kept classes' samples and the mixed queries; plus the embedder's
 // side losses, weighted by the samples they cover.
-torch::Tensor pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
-                               const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
-                               int total_classes);
+LossParts pit_episode_loss(const TrainingEmbedder& embedder, StochasticClassifier& classifier,
+                           const PitEpisode& episode, const PitEpisodeShape& shape, int base_classes,
+                           int total_classes);
 
 }  // namespace fscil

@@ -71,19 +71,19 @@ TEST(RandomView, EachPerturbationHasItsDocumentedEffect) {
   std::mt19937_64 generator(4);
   // Global bias only: the same offset everywhere in a sample, within +-a_g * std.
   ViewRanges bias_only{0.5, 0, 0, 0, 0};
-  const torch::Tensor biased = random_view(m, bias_only, generator) - m;
+  const torch::Tensor biased = random_view(m, bias_only, true, generator) - m;
   EXPECT_NEAR((biased[0] - biased[0][0][0][0]).abs().max().item<double>(), 0.0, 1e-5);
   EXPECT_LE(std::abs(biased[0][0][0][0].item<double>()), 0.5 * spread + 1e-5);
   // Tilt only: linear in the Mel bin, from -s to +s, the same in every frame and channel.
   ViewRanges tilt_only{0, 0, 0.5, 0, 0};
-  const torch::Tensor tilted = random_view(m, tilt_only, generator) - m;
+  const torch::Tensor tilted = random_view(m, tilt_only, true, generator) - m;
   const double s = tilted[0][0][3][0].item<double>();
   EXPECT_NEAR(tilted[0][0][0][0].item<double>(), -s, 1e-5);
   EXPECT_NEAR(tilted[0][0][1][5].item<double>(), -s / 3, 1e-5);
   EXPECT_NEAR(tilted[0][1][2][9].item<double>(), s / 3, 1e-5);
   // Shift only: content moves by whole frames, vacated frames repeat the edge (not circular).
   ViewRanges shift_only{0, 0, 0, 0, 0.25};
-  const torch::Tensor shifted = random_view(m, shift_only, generator);
+  const torch::Tensor shifted = random_view(m, shift_only, true, generator);
   for (std::int64_t i = 0; i < 2; ++i) {
     const auto row = shifted[i][0][0];
     const double dt = m[i][0][0][8].item<double>() - row[8].item<double>();
@@ -95,10 +95,22 @@ TEST(RandomView, EachPerturbationHasItsDocumentedEffect) {
   // Noise only: zero-mean with standard deviation s_eta * std.
   const torch::Tensor big = torch::randn({1, 4, 64, 64});
   ViewRanges noise_only{0, 0, 0, 0.1, 0};
-  const torch::Tensor noise = random_view(big, noise_only, generator) - big;
+  const torch::Tensor noise = random_view(big, noise_only, true, generator) - big;
   EXPECT_NEAR(noise.std().item<double>(), 0.1 * big.std().item<double>(), 0.005);
   // Shapes (and so labels, which the view never touches) are preserved.
-  EXPECT_EQ(random_view(m, ViewRanges{}, generator).sizes(), m.sizes());
+  EXPECT_EQ(random_view(m, ViewRanges{}, true, generator).sizes(), m.sizes());
+}
+
+TEST(RandomView, InStandardisedUnitsTheRangesAreAbsolute) {
+  // A map whose own spread is 100: in sample-spread units a bias of at most 0.5 could move it by
+  // 50; in standardised units (after bn0) by 0.5 at most.
+  const torch::Tensor m = 100 * torch::randn({8, 2, 4, 16});
+  std::mt19937_64 generator(9);
+  const ViewRanges bias_only{0.5, 0, 0, 0, 0};
+  const torch::Tensor standardised = random_view(m, bias_only, false, generator) - m;
+  EXPECT_LE(standardised.abs().max().item<double>(), 0.5 + 1e-3);
+  const torch::Tensor spread_units = random_view(m, bias_only, true, generator) - m;
+  EXPECT_GT(spread_units.abs().max().item<double>(), 1.0);
 }
 
 TEST(ContextStatisticBank, ReturnsTheFarthestEntryAndForgetsTheOldest) {
@@ -114,13 +126,33 @@ TEST(ContextStatisticBank, ReturnsTheFarthestEntryAndForgetsTheOldest) {
   EXPECT_TRUE(torch::equal(batch, torch::tensor({{1.0f, 1.0f}, {5.0f, 1.0f}})));
 }
 
+TEST(ContextStatisticBank, RanksCandidatesSoThatSeveralProbesTakeDistinctReferences) {
+  ContextStatisticBank bank(4);
+  bank.push(torch::tensor({{0.0f, 1.0f}, {5.0f, 1.0f}, {1.0f, 1.0f}, {3.0f, 1.0f}}));
+  const torch::Tensor query = torch::tensor({0.0f, 1.0f});
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 0)[0], torch::tensor({5.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 1)[0], torch::tensor({3.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 2)[0], torch::tensor({1.0f, 1.0f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 9)[0], torch::tensor({0.0f, 1.0f})));  // clamped: the nearest
+}
+
+TEST(ContextStatisticBank, StandardisedDistanceStopsOneLevelFromDominating) {
+  // Statistic 0 spans 0..100 across the bank, statistic 1 spans 0..1. In raw distance the entry
+  // farthest in statistic 0 always wins; standardised, a large move in statistic 1 counts as much.
+  ContextStatisticBank bank(3);
+  bank.push(torch::tensor({{0.0f, 0.5f}, {100.0f, 0.5f}, {50.0f, 1.0f}}));
+  const torch::Tensor query = torch::tensor({60.0f, 0.0f});
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 0, false)[0], torch::tensor({0.0f, 0.5f})));
+  EXPECT_TRUE(torch::equal(bank.farthest_from(query, 0, true)[0], torch::tensor({50.0f, 1.0f})));
+}
+
 TEST(StatisticTransfer, MovesChannelStatisticsTowardTheReference) {
   torch::manual_seed(5);
   const torch::Tensor m = 2 + 3 * torch::randn({1, 2, 8, 8});
   ContextStatisticBank bank;
   bank.push(torch::tensor({{10.0f, 10.0f, 0.5f, 0.5f}}));
   std::mt19937_64 generator(6);
-  const torch::Tensor moved = transfer_statistics(m, bank, ReferenceChoice::farthest, 0.1, generator);
+  const torch::Tensor moved = transfer_statistics(m, bank, ContextProbeSettings{}, 0, generator);
   const torch::Tensor before = channel_statistics(m)[0], after = channel_statistics(moved)[0];
   const torch::Tensor target = torch::tensor({10.0f, 10.0f, 0.5f, 0.5f});
   // Each statistic lands on the segment between the sample's own and the reference's, with one lambda.
@@ -135,16 +167,32 @@ TEST(StabilityWeights, AnUnstableSupportSampleWeighsLessAndWeightsSumToOnePerCla
   torch::Tensor probes = 0.1 * torch::ones({3, 4, 2});
   probes.select(1, 1).fill_(2.0);  // sample 1's probes wander far: unstable
   const torch::Tensor labels = torch::tensor(std::vector<std::int64_t>{7, 7, 7, 9});
-  const torch::Tensor instability = probe_instability(original, probes);
+  const torch::Tensor instability = probe_instability(original, probes, false);
   EXPECT_NEAR(instability[0].item<double>(), 0.02, 1e-6);
   EXPECT_NEAR(instability[1].item<double>(), 8.0, 1e-5);
   const torch::Tensor weights = stability_weights(instability, labels, 8.0);
   EXPECT_LT(weights[1].item<double>(), weights[0].item<double>() / 1e6);
   EXPECT_NEAR(weights[0].item<double>() + weights[1].item<double>() + weights[2].item<double>(), 1.0, 1e-6);
   EXPECT_NEAR(weights[3].item<double>(), 1.0, 1e-6);
-  const torch::Tensor prototypes = calibrated_prototypes(original, probes, weights, labels, {7, 9});
+  const torch::Tensor prototypes = calibrated_prototypes(original, probes, weights, labels, {7, 9}, true);
   // Class 7 ignores the unstable sample: its two stable samples average (0 + 3 * 0.1) / 4.
   EXPECT_NEAR(prototypes[0][0].item<double>(), 0.075, 1e-4);
+  // With zbar_i = z_hat_i^(0) the prototype is the weighted originals: zero here.
+  const torch::Tensor originals = calibrated_prototypes(original, probes, weights, labels, {7, 9}, false);
+  EXPECT_NEAR(originals.abs().max().item<double>(), 0.0, 1e-7);
+  // Class 7 effectively uses its two stable samples, class 9 its only one: (2 + 1) / 2.
+  EXPECT_NEAR(effective_shots(weights, labels), 1.5, 1e-4);
+}
+
+TEST(StabilityWeights, NormalisedInstabilityIgnoresTheEmbeddingsScale) {
+  torch::manual_seed(3);
+  const torch::Tensor original = torch::randn({5, 6});
+  const torch::Tensor probes = original.unsqueeze(0) + 0.1 * torch::randn({4, 5, 6});
+  const torch::Tensor scaled = probe_instability(10 * original, 10 * probes, true);
+  EXPECT_TRUE(torch::allclose(scaled, probe_instability(original, probes, true), 1e-4, 1e-6));
+  // Unnormalised, a 10x larger embedding is 100x less stable, so softmax(-8 U) turns one-hot.
+  EXPECT_TRUE(torch::allclose(probe_instability(10 * original, 10 * probes, false),
+                              100 * probe_instability(original, probes, false), 1e-3, 1e-5));
 }
 
 }  // namespace

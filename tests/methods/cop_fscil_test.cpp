@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "methods/common/batch_norm_statistics.h"
 #include "methods/common/embedding.h"
 #include "methods/common/running_statistics_guard.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
@@ -167,35 +168,117 @@ TEST(PspcLoss, NewClassesLearnOnlyFromTheSupportAndOldOnesOnlyFromTheirMeans) {
   EXPECT_EQ(both[5].abs().sum().item<double>(), 0.0);               // the unseen row does not move
 }
 
-// Exposes the episode hook to check CPI's coverage.
-class EpisodeProbe : public CopFscilMethod {
+// Exposes the episode hook and PSPC's embeddings.
+class ExposedCop : public CopFscilMethod {
  public:
   using CopFscilMethod::CopFscilMethod;
   using CopFscilMethod::perturb_episode;
+  using CopFscilMethod::pspc_embeddings;
 };
 
-TEST(CopFscilEpisode, PerturbsSixtyPercentOfSupportAndEveryQueryKeepingLabels) {
+// How many rows of each part an episode's CPI covers under `cpi_kept`.
+struct Coverage {
+  std::int64_t shots = 0, queries = 0, kept = 0;
+};
+Coverage episode_coverage(const std::string& kept) {
   const SessionData base = tiny_base();
   ParameterSet params;
+  params.set("cpi_kept", kept);
   const PitEpisodeSampler sampler(base, 6, 10, PitsScSettings::from(params));
   std::mt19937_64 generator(8);
   PitEpisode episode = sampler.draw(generator, mean_front_end);
-  const PitEpisode before{episode.kept_features.clone(), episode.kept_labels.clone(), episode.mixed_signals,
-                          episode.mixed_features.clone(), episode.first_class, episode.second_class, episode.lambda,
-                          episode.novel_rows, episode.query_labels.clone()};
-  EpisodeProbe method(params, CopFscilComponents{false, false});
+  const torch::Tensor mixed_before = episode.mixed_features.clone(), kept_before = episode.kept_features.clone();
+  ExposedCop method(params, CopFscilComponents{false, false});
   RunContext context = tiny_context(8);
   method.perturb_episode(episode, context);
-  const auto changed = [](const torch::Tensor& a, const torch::Tensor& b) {
-    return (a - b).flatten(1).abs().amax(1) > 1e-6;
+  // Choosing rows changes no sample: the network replaces them by probes where CPI acts.
+  EXPECT_TRUE(torch::equal(episode.mixed_features, mixed_before));
+  EXPECT_TRUE(torch::equal(episode.kept_features, kept_before));
+  Coverage coverage;
+  for (std::int64_t row : std::vector<std::int64_t>(episode.mixed_probe_rows.data_ptr<std::int64_t>(),
+                                                    episode.mixed_probe_rows.data_ptr<std::int64_t>() +
+                                                        episode.mixed_probe_rows.numel())) {
+    (row % 20 < 5 ? coverage.shots : coverage.queries) += 1;
+  }
+  coverage.kept = episode.kept_probe_rows.defined() ? episode.kept_probe_rows.numel() : 0;
+  return coverage;
+}
+
+TEST(CopFscilEpisode, ProbesSixtyPercentOfShotsEveryQueryAndTheKeptSamplesAsChosen) {
+  // The tiny episode: 1 pair of 5 mixed shots + 15 queries, 4 kept classes x 20 samples.
+  const Coverage as_queries = episode_coverage("query");
+  EXPECT_EQ(as_queries.shots, 3);  // 60% of 5 shots
+  EXPECT_EQ(as_queries.queries, 15);
+  EXPECT_EQ(as_queries.kept, 80);
+  EXPECT_EQ(episode_coverage("clean").kept, 0);
+  EXPECT_EQ(episode_coverage("split").kept, 4 * (3 + 15));  // each kept class: 3 of its 5 "shots", all 15 others
+}
+
+// Every batch-norm buffer of the encoder (running means, variances, counters) in one vector.
+torch::Tensor encoder_buffers(Method& method) {
+  std::vector<torch::Tensor> flat;
+  for (const auto& buffer : as_cop(method).encoder()->buffers()) flat.push_back(buffer.to(torch::kDouble).flatten());
+  return torch::cat(flat);
+}
+
+TEST(CopFscilEpisode, GuardedEpisodesLeaveTheRunningStatisticsAsPretrainingLeftThem) {
+  const auto buffers_after = [](int pit_epochs, const std::string& statistics) {
+    ParameterSet params = tiny_params(pit_epochs, 0);
+    params.set("cpi_bn_statistics", statistics);
+    return encoder_buffers(*train("cop-fscil/cpi", params).method);
   };
-  const torch::Tensor mixed_changed = changed(episode.mixed_features, before.mixed_features).view({1, 20});
-  EXPECT_EQ(mixed_changed.narrow(1, 0, 5).sum().item<std::int64_t>(), 3);  // 60% of 5 shots
-  EXPECT_EQ(mixed_changed.narrow(1, 5, 15).sum().item<std::int64_t>(), 15);
-  EXPECT_EQ(changed(episode.kept_features, before.kept_features).sum().item<std::int64_t>(), 80);
-  EXPECT_EQ(episode.mixed_features.sizes(), before.mixed_features.sizes());
-  EXPECT_TRUE(torch::equal(episode.kept_labels, before.kept_labels));
-  EXPECT_TRUE(torch::equal(episode.query_labels, before.query_labels));
+  const torch::Tensor pretrained = buffers_after(0, "update");
+  EXPECT_TRUE(torch::equal(buffers_after(1, "guarded"), pretrained));
+  EXPECT_FALSE(torch::equal(buffers_after(1, "update"), pretrained));
+}
+
+TEST(CopFscilEpisode, ReestimatedStatisticsAreThoseOfTheCleanBaseData) {
+  ParameterSet params = tiny_params(1, 0);
+  params.set("cpi_bn_statistics", "reestimate");
+  auto trained = train("cop-fscil/cpi", params);
+  ResNet18Encoder& encoder = as_cop(*trained.method).encoder();
+  const torch::Tensor after_training = encoder_buffers(*trained.method);
+  // Estimating again on the clean base data changes nothing: they already are its statistics.
+  torch::manual_seed(3);  // train() drew the base session's features first after this seed
+  const SessionData base = tiny_base();
+  reestimate_batch_norm_statistics(*encoder, base.features, 256,
+                                   [&](const torch::Tensor& batch) { encoder->forward(batch); });
+  EXPECT_TRUE(torch::allclose(encoder_buffers(*trained.method), after_training, 1e-5, 1e-6));
+  // With the statistics the episodes left they are not.
+  ParameterSet updated = tiny_params(1, 0);
+  updated.set("cpi_bn_statistics", "update");
+  EXPECT_FALSE(torch::allclose(encoder_buffers(*train("cop-fscil/cpi", updated).method), after_training, 1e-5, 1e-6));
+}
+
+TEST(CopFscilSession, PspcMapsEveryProbeWithTheQOfItsOriginal) {
+  ParameterSet own_params = tiny_params(0, 0);
+  own_params.set("pspc_q", "own");
+  for (const auto& [params, from_original] : {std::pair{tiny_params(0, 0), true}, {own_params, false}}) {
+    torch::manual_seed(3);
+    ExposedCop method(params, CopFscilComponents{true, true});
+    RunContext context = tiny_context(3);
+    method.train_base(tiny_base(), context);
+    torch::manual_seed(5);
+    const torch::Tensor original = torch::randn({4, 256}), probes = torch::randn({3, 4, 256});
+    const auto [original_hat, probes_hat] = method.pspc_embeddings(original, probes);
+    torch::NoGradGuard no_grad;
+    QuotientAdapter& adapter = method.adapter();
+    const torch::Tensor q_of_original = adapter->reflections_of(original);
+    EXPECT_TRUE(torch::allclose(original_hat, adapter->project(q_of_original, original).quotient, 1e-5, 1e-6));
+    const torch::Tensor with_original_q = adapter->project(q_of_original, probes[1]).quotient;
+    const torch::Tensor with_own_q = adapter->forward(probes[1]);
+    EXPECT_EQ(torch::allclose(probes_hat[1], with_original_q, 1e-5, 1e-6), from_original);
+    EXPECT_EQ(torch::allclose(probes_hat[1], with_own_q, 1e-5, 1e-6), !from_original);
+  }
+}
+
+TEST(CopFscilSession, RecordsPspcsEffectiveShots) {
+  auto trained = train("cop-fscil", tiny_params(0, 0));
+  trained.method->learn_session(tiny_support(6), trained.context);
+  ASSERT_EQ(trained.context.diagnostics.count("pspc_effective_shots"), 1u);
+  const double shots = trained.context.diagnostics.at("pspc_effective_shots");
+  EXPECT_GE(shots, 1.0);
+  EXPECT_LE(shots, 5.0 + 1e-9);
 }
 
 TEST(RunningStatisticsGuard, UndoesTheBatchNormUpdatesOfATrainingForward) {

@@ -134,10 +134,10 @@ TEST(PitEpisodeLoss, WritesThePairPrototypeIntoItsNovelRowAndZeroesTheOthers) {
   ResNet18Encoder encoder(ResNet18Options{2, 4});
   StochasticClassifier classifier(10, 256);
   encoder->train();
-  const TrainingEmbedder embedder = [&](const torch::Tensor& features) {
+  const TrainingEmbedder embedder = [&](const torch::Tensor& features, const torch::Tensor& /*probe_rows*/) {
     return TrainingEmbedding{encoder->forward(features), {}};
   };
-  const torch::Tensor loss = pit_episode_loss(embedder, classifier, episode, sampler.shape(), 6, 10);
+  const torch::Tensor loss = pit_episode_loss(embedder, classifier, episode, sampler.shape(), 6, 10).total();
   EXPECT_TRUE(std::isfinite(loss.item<double>()));
   for (std::int64_t row = 6; row < 10; ++row) {
     const double norm = classifier->mu[row].norm().item<double>();

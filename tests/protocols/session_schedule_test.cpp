@@ -183,6 +183,66 @@ TEST(SessionSchedule, HeldOutContextsFeedOnlyShotsAndTests) {
   for (int recording : shot_recordings) EXPECT_EQ(test_recordings.count(recording), 0u);
 }
 
+TEST(SessionSchedule, ScoredValidationMirrorsTheTestSplitOfEveryClassAndNeverOverlapsIt) {
+  // Without held-out contexts: every class's 20% validation recordings, base classes' being the
+  // validation methods read.
+  const SegmentSet open = synthetic_segments(20, 10, 10);
+  const SessionPlan plan = plan_for(20, {10, 5, 5, 3});
+  const SessionSchedule schedule = build_session_schedule(open, names(20), plan, SplitMode::recording, 3);
+  EXPECT_EQ(schedule.scored_validation.size(), 20u * 20u);
+  std::set<std::int64_t> scored(schedule.scored_validation.begin(), schedule.scored_validation.end());
+  for (auto index : schedule.validation) EXPECT_EQ(scored.count(index), 1u);
+  for (auto index : schedule.test) EXPECT_EQ(scored.count(index), 0u);
+  for (int s = 0; s < 3; ++s) {
+    for (auto index : schedule.train[s]) EXPECT_EQ(scored.count(index), 0u);
+  }
+  EXPECT_EQ(&schedule.scored_segments(EvaluationSplit::validation), &schedule.scored_validation);
+  EXPECT_EQ(&schedule.scored_segments(EvaluationSplit::test), &schedule.test);
+
+  // Held-out contexts (4 held-out recordings of 10 segments per class): 2 test; a base class
+  // validates on the other 2, a novel class on 1 and draws its shots from the last one.
+  SegmentSet shifted = synthetic_segments(15, 10, 10);
+  shifted.context_names = {"device", "held_out"};
+  for (std::size_t r = 0; r < shifted.recording_ids.size(); ++r) {
+    shifted.context_values.push_back(r % 10 >= 6 ? 3 : 0);
+    shifted.context_values.push_back(r % 10 >= 6 ? 1 : 0);
+  }
+  const SessionPlan shifted_plan = plan_for(15, {5, 5, 5, 3});
+  const auto held = build_session_schedule(shifted, names(15), shifted_plan, SplitMode::recording, 1);
+  std::map<std::int64_t, std::set<int>> validation_recordings, shot_recordings, test_recordings;
+  for (auto index : held.scored_validation) {
+    EXPECT_GE(shifted.recording_index[index] % 10, 6);  // the test's (held-out) contexts
+    validation_recordings[held.label[index]].insert(shifted.recording_index[index]);
+  }
+  for (auto index : held.test) test_recordings[held.label[index]].insert(shifted.recording_index[index]);
+  for (int s = 1; s < 3; ++s) {
+    for (auto index : held.train[s]) shot_recordings[held.label[index]].insert(shifted.recording_index[index]);
+  }
+  for (std::int64_t label = 0; label < 15; ++label) {
+    EXPECT_EQ(validation_recordings[label].size(), label < 5 ? 2u : 1u) << label;
+    for (int recording : validation_recordings[label]) {
+      EXPECT_EQ(test_recordings[label].count(recording), 0u);
+      EXPECT_EQ(shot_recordings[label].count(recording), 0u);
+    }
+  }
+  EXPECT_TRUE(held.classes_without_scored_validation.empty());
+
+  // With too few segments left for the shots, a novel class keeps both recordings for them and
+  // has no validation: scoring on validation is refused, naming it.
+  SegmentSet sparse = synthetic_segments(15, 10, 3);
+  sparse.context_names = shifted.context_names;
+  sparse.context_values = shifted.context_values;
+  const auto starved = build_session_schedule(sparse, names(15), shifted_plan, SplitMode::recording, 1);
+  EXPECT_EQ(starved.classes_without_scored_validation.size(), 10u);
+  try {
+    starved.scored_segments(EvaluationSplit::validation);
+    ADD_FAILURE() << "scored a split some classes lack";
+  } catch (const ProtocolError& error) {
+    EXPECT_NE(std::string(error.what()).find("10 of 15 classes have no validation recordings"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(SessionSchedule, SegmentModeSplitsSegmentsSixtyTwentyTwenty) {
   const SegmentSet segments = synthetic_segments(20, 2, 10);
   const auto schedule = build_session_schedule(segments, names(20), plan_for(20, {10, 5, 5, 3}), SplitMode::segment, 1);

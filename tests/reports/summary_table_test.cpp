@@ -107,12 +107,28 @@ TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
 TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std,"
+  EXPECT_EQ(header, "method,dataset,split,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std,"
                     "AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95");
   EXPECT_NE(csv.find(",63.5310,63.5310\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
-  EXPECT_NE(csv.find("prototype,simtex,1 2,80.0000,10.0000,"), std::string::npos);
+  EXPECT_NE(csv.find("prototype,simtex,test,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
-  EXPECT_EQ(single, "method,dataset,seeds,AA,PD,ADR,acc_0,acc_1\nprototype,simtex,1,85.0000,10.0000,11.1111,90.0000,80.0000\n");
+  EXPECT_EQ(single, "method,dataset,split,seeds,AA,PD,ADR,acc_0,acc_1\nprototype,simtex,test,1,85.0000,10.0000,11.1111,"
+                    "90.0000,80.0000\n");
+}
+
+TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
+  RunRecord on_validation = record_of("prototype", 2, {80, 70});
+  on_validation.evaluated_on = "validation";
+  EXPECT_THROW(summarize_runs({record_of("prototype", 1, {90, 80}), on_validation}), ReportError);
+  RunRecord other_seed = record_of("prototype", 3, {85, 75});
+  other_seed.evaluated_on = "validation";
+  const SummaryTable table = summarize_runs({on_validation, other_seed});
+  EXPECT_EQ(table.evaluated_on, "validation");
+  EXPECT_NE(render_csv(table).find("prototype,simtex,validation,2 3,"), std::string::npos);
+  EXPECT_NE(render_markdown(table).find("### simtex, validation split"), std::string::npos);
+  EXPECT_NE(render_latex(table).find("Comparison on simtex, validation split"), std::string::npos);
+  // A result file says what it was scored on, and one that says nothing was scored on test.
+  EXPECT_EQ(run_record_from_json_text(to_json_text(on_validation), "x").evaluated_on, "validation");
 }
 
 TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {

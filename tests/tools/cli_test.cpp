@@ -84,7 +84,7 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   std::ifstream csv(out.path() / "summary.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("method,dataset,seeds,AA,PD,ADR,acc_0,acc_1,acc_2,AA_std", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("method,dataset,split,seeds,AA,PD,ADR,acc_0,acc_1,acc_2,AA_std", 0), 0u) << header;
   const std::string first_summary = std::string(std::istreambuf_iterator<char>(csv), {});
 
   std::filesystem::remove(out.path() / "summary.csv");
@@ -146,6 +146,44 @@ TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   std::ifstream record(together.path() / file);
   EXPECT_NE(std::string(std::istreambuf_iterator<char>(record), {}).find("\"base_training\": \"shared with cop-fscil/cpi+pcqa\""),
             std::string::npos);
+}
+
+TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {
+  TemporaryDirectory out, test_out;
+  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  const CommandResult run = run_cli(common + " --evaluate-on validation --out " + out.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("### simtex-mini, validation split"), std::string::npos) << run.output;
+  std::ifstream result_file(out.path() / "results" / "cop-fscil__simtex-mini__seed1.json");
+  const std::string result(std::istreambuf_iterator<char>(result_file), {});
+  EXPECT_NE(result.find("\"evaluated_on\": \"validation\""), std::string::npos);
+  // What the method reported while training: base validation accuracy after each stage, its
+  // loss terms, and PSPC's effective number of shots in each incremental session.
+  for (const char* diagnostic : {"base_validation_after_pretraining", "base_validation_after_pseudo_incremental",
+                                 "pretraining_ce_mean", "pretraining_side_loss_mean", "pspc_effective_shots"}) {
+    EXPECT_NE(result.find(diagnostic), std::string::npos) << diagnostic;
+  }
+  std::ifstream csv(out.path() / "summary.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_EQ(row.rfind("cop-fscil,simtex-mini,validation,1,", 0), 0u) << row;
+  // Validation-scored runs never stand beside the paper's test numbers or a test run.
+  expect_one_error_line(run_cli("report --paper --results " + out.path().string()), "test-split numbers");
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out " +
+                    test_out.path().string())
+                .exit_code,
+            0);
+  std::filesystem::copy(test_out.path() / "results" / "prototype__simtex-mini__seed1.json",
+                        out.path() / "results" / "prototype__simtex-mini__seed1.json");
+  expect_one_error_line(run_cli("report --results " + out.path().string()), "report them from separate directories");
+  // Under a device shift simtex-mini's novel classes have one held-out recording left for their
+  // shots and none for validation: refused before any training.
+  expect_one_error_line(run_cli(common + " --evaluate-on validation --set context_shift=device --out " +
+                                out.path().string() + "/shifted"),
+                        "have no validation recordings in their test contexts");
+  expect_one_error_line(run_cli(common + " --evaluate-on train --out " + out.path().string() + "/bad"),
+                        "--evaluate-on 'train': expected test or validation");
 }
 
 TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) {

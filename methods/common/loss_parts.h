@@ -1,0 +1,37 @@
+#pragma once
+#include <torch/torch.h>
+
+#include <map>
+#include <string>
+
+namespace fscil {
+
+// A training step's loss in its two parts: the classification loss and a method's side loss
+// (cop-fscil's lambda L_PIC; undefined when there is none).
+struct LossParts {
+  torch::Tensor classification, side;
+  torch::Tensor total() const { return side.defined() ? classification + side : classification; }
+};
+
+// Mean of each part over a stage's steps, as the run's diagnostics record them.
+class LossPartMeans {
+ public:
+  void add(const LossParts& parts) {
+    classification_ += parts.classification.item<double>();
+    if (parts.side.defined()) side_ += parts.side.item<double>(), has_side_ = true;
+    ++steps_;
+  }
+  // `<stage>_ce_mean` and, with a side loss, `<stage>_side_loss_mean`.
+  void record(std::map<std::string, double>& diagnostics, const std::string& stage) const {
+    if (steps_ == 0) return;
+    diagnostics[stage + "_ce_mean"] = classification_ / steps_;
+    if (has_side_) diagnostics[stage + "_side_loss_mean"] = side_ / steps_;
+  }
+
+ private:
+  double classification_ = 0, side_ = 0;
+  int steps_ = 0;
+  bool has_side_ = false;
+};
+
+}  // namespace fscil

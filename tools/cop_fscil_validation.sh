@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# The validation protocol behind CoP-FSCIL's defaults (docs/methods.md): one configuration per
+# reading, each run with --evaluate-on validation on simtex with strong, shifted context and on
+# simtex as it is, fast profile, seeds 1-3. Never scored on test. Interrupted runs continue with
+# the same command (--resume); finished configurations are kept.
+#   bash tools/cop_fscil_validation.sh OUT [CONFIG ...]   run (all configurations by default)
+#   bash tools/cop_fscil_validation.sh OUT --table        AA and PD per configuration so far
+# SETTINGS=shifted (or nominal) runs one of the two settings only.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+bench=${FSCIL_BENCH:-$root/build/tools/fscil-bench}
+out=${1:?usage: $0 OUT [CONFIG ...|--table]}
+shift
+
+# name | methods | --set assignments (space separated). The first of each group is the reading
+# in force before the comparison; see docs/methods.md for which one each decision kept.
+configs=(
+  "pits-sc|pits-sc|"
+  "cpi-legacy|cop-fscil/cpi|cpi_space=raw cpi_distance=raw cpi_references=same"
+  "cpi|cop-fscil/cpi|"
+  "cpi-raw|cop-fscil/cpi|cpi_space=raw"
+  "cpi-guarded|cop-fscil/cpi|cpi_bn_statistics=guarded"
+  "cpi-reestimate|cop-fscil/cpi|cpi_bn_statistics=reestimate"
+  "cpi-kept-clean|cop-fscil/cpi|cpi_kept=clean"
+  "cpi-kept-split|cop-fscil/cpi|cpi_kept=split"
+  "cpi-distance-raw|cop-fscil/cpi|cpi_distance=raw"
+  "cpi-alpha-0.5|cop-fscil/cpi|cpi_mix_alpha=0.5"
+  "full|cop-fscil|"
+  "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
+  "full-pic-normalised|cop-fscil|pic_space=normalised"
+  "full-pspc-normalised|cop-fscil|pspc_instability=normalised"
+  "full-pspc-original|cop-fscil|pspc_mean=original"
+  "full-pretrain-cpi|cop-fscil|cpi_pretrain_coverage=0.5"
+)
+settings=(
+  "shifted|context_strength=2 context_shift=device"
+  "nominal|context_strength=1"
+)
+
+if [ "${1:-}" = --table ]; then
+  printf '| configuration | setting | AA | PD | last session |\n|---|---|---:|---:|---:|\n'
+  for dir in "$out"/*/*/; do
+    [ -f "$dir/summary.csv" ] || continue
+    name=$(basename "$(dirname "$dir")") setting=$(basename "$dir")
+    # summary.csv: method,dataset,split,seeds,AA,PD,ADR,acc_0..acc_S, then the _std and _ci95 columns
+    awk -F, -v name="$name" -v setting="$setting" '
+      NR == 1 { for (i = 1; i <= NF; i++) { col[$i] = i; if ($i ~ /^acc_[0-9]+$/) last = i }; next }
+      { printf "| %s | %s | %.2f ± %.2f | %.2f ± %.2f | %.2f |\n", name, setting, $col["AA"], $col["AA_std"],
+               $col["PD"], $col["PD_std"], $last }' "$dir/summary.csv"
+  done
+  exit 0
+fi
+
+wanted=("$@")
+for config in "${configs[@]}"; do
+  IFS='|' read -r name methods assignments <<<"$config"
+  if [ ${#wanted[@]} -gt 0 ] && [[ ! " ${wanted[*]} " =~ " $name " ]]; then continue; fi
+  for setting in "${settings[@]}"; do
+    IFS='|' read -r setting_name setting_assignments <<<"$setting"
+    if [ -n "${SETTINGS:-}" ] && [ "$SETTINGS" != "$setting_name" ]; then continue; fi
+    dir=$out/$name/$setting_name
+    [ -f "$dir/summary.csv" ] && continue
+    sets=()
+    for assignment in $setting_assignments $assignments; do sets+=(--set "$assignment"); done
+    echo "== $name on $setting_name: $methods ${sets[*]}" >&2
+    "$bench" --methods "$methods" --dataset simtex --profile fast --seeds 1-3 --evaluate-on validation --quiet \
+      --out "$dir" --resume "$dir" "${sets[@]}" >/dev/null
+  done
+done
