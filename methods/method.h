@@ -21,6 +21,9 @@ struct SessionData {
   SampleRows features;              // N x C x n_mels x frames, log-Mel
   SampleRows signals;               // N x C x L, the raw segments (for methods that mix raw signals)
   torch::Tensor labels;             // N, int64 protocol class indices
+  // N, the recording each sample was cut from (dataset recording indices); empty where unknown,
+  // then every sample counts as its own recording.
+  std::vector<std::int64_t> recordings;
   std::vector<std::int64_t> new_classes;  // classes this session introduces
 };
 

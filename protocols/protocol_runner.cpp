@@ -116,6 +116,7 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
   data.features = feature_rows(dataset, indices);
   data.signals = signal_rows(dataset, indices);
   data.labels = torch::tensor(schedule.labels_of(indices), torch::kLong);
+  for (std::int64_t index : indices) data.recordings.push_back(dataset.segments.recording_index[index]);
   const SessionPlan& plan = schedule.plan;
   for (int c = plan.first_class_of(session); c < plan.seen_after(session); ++c) data.new_classes.push_back(c);
   return data;

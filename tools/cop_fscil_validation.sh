@@ -5,7 +5,9 @@
 # the same command (--resume); finished configurations are kept.
 #   bash tools/cop_fscil_validation.sh OUT [CONFIG ...]   run (all configurations by default)
 #   bash tools/cop_fscil_validation.sh OUT --table        AA and PD per configuration so far
-# SETTINGS=shifted (or nominal) runs one of the two settings only.
+# SETTINGS=shifted (or nominal) runs one of the two settings only; THREADS (default 2) sets
+# --threads, so two queues of configurations can share a 2-core machine at THREADS=1 (numbers
+# are comparable only between runs with the same thread count).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bench=${FSCIL_BENCH:-$root/build/tools/fscil-bench}
@@ -64,6 +66,6 @@ for config in "${configs[@]}"; do
     for assignment in $setting_assignments $assignments; do sets+=(--set "$assignment"); done
     echo "== $name on $setting_name: $methods ${sets[*]}" >&2
     "$bench" --methods "$methods" --dataset simtex --profile fast --seeds 1-3 --evaluate-on validation --quiet \
-      --out "$dir" --resume "$dir" "${sets[@]}" >/dev/null
+      --threads "${THREADS:-2}" --out "$dir" --resume "$dir" "${sets[@]}" >/dev/null
   done
 done

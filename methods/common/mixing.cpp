@@ -14,35 +14,37 @@ double sample_beta(double a, double b, std::mt19937_64& generator) {
   return x + y > 0 ? x / (x + y) : 0.5;
 }
 
-CutMixBatch cutmix(const torch::Tensor& features, const torch::Tensor& labels, double alpha,
-                   std::mt19937_64& generator) {
-  const std::int64_t n = features.size(0), height = features.size(2), width = features.size(3);
+CutMixPlan plan_cutmix(std::int64_t batch, std::int64_t height, std::int64_t width, double alpha,
+                       std::mt19937_64& generator) {
   const double lambda = sample_beta(alpha, alpha, generator);
   const double cut = std::sqrt(1.0 - lambda);
   const auto cut_h = static_cast<std::int64_t>(static_cast<double>(height) * cut);
   const auto cut_w = static_cast<std::int64_t>(static_cast<double>(width) * cut);
   const std::int64_t centre_h = std::uniform_int_distribution<std::int64_t>(0, height - 1)(generator);
   const std::int64_t centre_w = std::uniform_int_distribution<std::int64_t>(0, width - 1)(generator);
-  const std::int64_t top = std::clamp(centre_h - cut_h / 2, std::int64_t{0}, height);
-  const std::int64_t bottom = std::clamp(centre_h + cut_h / 2, std::int64_t{0}, height);
-  const std::int64_t left = std::clamp(centre_w - cut_w / 2, std::int64_t{0}, width);
-  const std::int64_t right = std::clamp(centre_w + cut_w / 2, std::int64_t{0}, width);
+  CutMixPlan plan;
+  plan.top = std::clamp(centre_h - cut_h / 2, std::int64_t{0}, height);
+  plan.bottom = std::clamp(centre_h + cut_h / 2, std::int64_t{0}, height);
+  plan.left = std::clamp(centre_w - cut_w / 2, std::int64_t{0}, width);
+  plan.right = std::clamp(centre_w + cut_w / 2, std::int64_t{0}, width);
 
-  std::vector<std::int64_t> order(n);
+  std::vector<std::int64_t> order(static_cast<std::size_t>(batch));
   std::iota(order.begin(), order.end(), 0);
   shuffle_with(order, generator);
-  const torch::Tensor partners = torch::tensor(order);
+  plan.partners = torch::tensor(order);
+  plan.kept_fraction = 1.0 - static_cast<double>((plan.bottom - plan.top) * (plan.right - plan.left)) /
+                                 static_cast<double>(height * width);
+  return plan;
+}
 
-  CutMixBatch batch;
-  batch.features = features.clone();
-  batch.partner_labels = labels.index_select(0, partners);
+torch::Tensor CutMixPlan::apply(const torch::Tensor& maps) const {
+  torch::Tensor mixed = maps.clone();
   if (bottom > top && right > left) {
     using torch::indexing::Slice;
     const std::vector<torch::indexing::TensorIndex> box = {Slice(), Slice(), Slice(top, bottom), Slice(left, right)};
-    batch.features.index_put_(box, features.index_select(0, partners).index(box));
+    mixed.index_put_(box, maps.index_select(0, partners).index(box));
   }
-  batch.kept_fraction = 1.0 - static_cast<double>((bottom - top) * (right - left)) / static_cast<double>(height * width);
-  return batch;
+  return mixed;
 }
 
 }  // namespace fscil

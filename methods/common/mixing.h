@@ -8,15 +8,21 @@ namespace fscil {
 // A Beta(a, b) draw from the run's generator (as X / (X + Y), X ~ Gamma(a), Y ~ Gamma(b)).
 double sample_beta(double a, double b, std::mt19937_64& generator);
 
-struct CutMixBatch {
-  torch::Tensor features;        // each sample with a box pasted from its partner
-  torch::Tensor partner_labels;  // labels of the partners
-  double kept_fraction = 1.0;    // area of each sample left as it was (the effective lambda)
+// Where one CutMix pastes its box and which sample each box comes from: drawn once per batch,
+// applied wherever CutMix acts (on the input, or after the encoder's input norm as PITS-SC's
+// released code does).
+struct CutMixPlan {
+  std::int64_t top = 0, bottom = 0, left = 0, right = 0;  // the box, in Mel bins and frames
+  torch::Tensor partners;                                 // N, the sample each box is taken from
+  double kept_fraction = 1.0;                             // area of each sample left as it was
+
+  // `maps` (N x C x F x T, the plan's batch) with the box pasted from each partner.
+  torch::Tensor apply(const torch::Tensor& maps) const;
 };
 
-// CutMix on N x C x F x T log-Mel batches: lambda ~ Beta(alpha, alpha), one box of area
-// (1 - lambda) of F x T at a uniform centre (clipped at the edges) pasted from a permuted batch.
-CutMixBatch cutmix(const torch::Tensor& features, const torch::Tensor& labels, double alpha,
-                   std::mt19937_64& generator);
+// lambda ~ Beta(alpha, alpha), a box of area (1 - lambda) of F x T at a uniform centre
+// (clipped at the edges), partners a permutation of the batch.
+CutMixPlan plan_cutmix(std::int64_t batch, std::int64_t height, std::int64_t width, double alpha,
+                       std::mt19937_64& generator);
 
 }  // namespace fscil

@@ -36,10 +36,11 @@ std::vector<torch::Tensor> CopFscilMethod::network_parameters() {
   return parameters;
 }
 
-torch::Tensor CopFscilMethod::encode(const torch::Tensor& features, const InputNormHook& probe) {
-  if (!probe) return encoder_->forward(features);
-  if (cop_settings_.cpi.space == ProbeSpace::raw) return encoder_->forward(probe(features));
-  return encoder_->forward(features, probe);
+torch::Tensor CopFscilMethod::encode(const torch::Tensor& features, const InputNormHook& mix,
+                                     const InputNormHook& probe) {
+  if (cop_settings_.cpi.space == ProbeSpace::raw) return encoder_->forward(probe ? probe(features) : features, mix);
+  if (!mix || !probe) return encoder_->forward(features, mix ? mix : probe);
+  return encoder_->forward(features, [&](const torch::Tensor& map) { return probe(mix(map)); });
 }
 
 torch::Tensor CopFscilMethod::encode_for_inference(const torch::Tensor& features, const InputNormHook& probe) {
@@ -50,8 +51,8 @@ torch::Tensor CopFscilMethod::encode_for_inference(const torch::Tensor& features
   return embed_in_batches(encoder_, features, 256, probe);
 }
 
-TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
-                                                     RunContext& context) {
+TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& features, const InputNormHook& mix,
+                                                     const torch::Tensor& probe_rows, RunContext& context) {
   // The batch's own probes (the rows CPI replaces) are drawn once, where CPI acts, by the first
   // forward that reaches that map; the clean map's statistics join the bank just before, so the
   // bank only ever holds real samples. L_PIC's probe forwards see the same map as the original.
@@ -78,12 +79,12 @@ TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& featur
     torch::NoGradGuard no_grad;
     const RunningStatisticsGuard keep_statistics(*encoder_);
     for (int n = 0; n < cop_settings_.pic_probes; ++n) {
-      probe_embeddings.push_back(encode(features, [&](const torch::Tensor& map) {
+      probe_embeddings.push_back(encode(features, mix, [&](const torch::Tensor& map) {
         return probe_.intervene(probed(map), context.generator, n);
       }));
     }
   }
-  const torch::Tensor original = encode(features, probed);
+  const torch::Tensor original = encode(features, mix, probed);
   if (!components_.pcqa) return {original, {}};
   const torch::Tensor reflections = adapter_->reflections_of(original);
   const auto projection = adapter_->project(reflections, original);

@@ -38,8 +38,8 @@ class CopFscilMethod : public PitsScMethod {
  protected:
   void build_network(RunContext& context) override;
   std::vector<torch::Tensor> network_parameters() override;
-  TrainingEmbedding training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
-                                       RunContext& context) override;
+  TrainingEmbedding training_embedding(const torch::Tensor& features, const InputNormHook& mix,
+                                       const torch::Tensor& probe_rows, RunContext& context) override;
   torch::Tensor pretraining_probe_rows(std::int64_t batch, RunContext& context) override;
   void perturb_episode(PitEpisode& episode, RunContext& context) override;
   bool episodes_keep_running_statistics() const override;
@@ -48,9 +48,10 @@ class CopFscilMethod : public PitsScMethod {
   std::pair<torch::Tensor, torch::Tensor> pspc_embeddings(const torch::Tensor& original, const torch::Tensor& probes);
 
  private:
-  // The encoder's embedding in training mode with `probe` applied where CPI acts: to the input
-  // (cpi_space=raw) or to the map after bn0 (standardised). An empty probe changes nothing.
-  torch::Tensor encode(const torch::Tensor& features, const InputNormHook& probe);
+  // The encoder's embedding in training mode with `mix` applied after bn0 and `probe` where CPI
+  // acts: to the input (cpi_space=raw) or to the map after bn0 and `mix` (standardised). Empty
+  // hooks change nothing.
+  torch::Tensor encode(const torch::Tensor& features, const InputNormHook& mix, const InputNormHook& probe);
   // The same in eval mode, without gradients, in batches.
   torch::Tensor encode_for_inference(const torch::Tensor& features, const InputNormHook& probe);
   // PSPC: the encoder's embeddings of N_ps random-view probes of every support sample: N_ps x N x D.

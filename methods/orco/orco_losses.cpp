@@ -46,6 +46,26 @@ torch::Tensor orthogonality_loss(const torch::Tensor& projections, const torch::
   return spread_loss(torch::cat(parts));
 }
 
+torch::Tensor orthogonality_loss_from(std::int64_t from_class, const torch::Tensor& projections,
+                                      const torch::Tensor& labels, const torch::Tensor& assigned_targets,
+                                      const torch::Tensor& target_labels, const torch::Tensor& unassigned_targets) {
+  const torch::Tensor kept = labels >= from_class;
+  if (!kept.any().item<bool>()) return torch::zeros({});
+  return orthogonality_loss(projections.index({kept}), labels.index({kept}), assigned_targets, target_labels,
+                            unassigned_targets);
+}
+
+torch::Tensor split_cross_entropy(const torch::Tensor& logits, const torch::Tensor& labels, std::int64_t novel_from,
+                                  double base_weight, double novel_weight) {
+  torch::Tensor loss = torch::zeros({});
+  const torch::Tensor novel = labels >= novel_from;
+  for (const auto& [rows, weight] : {std::pair{~novel, base_weight}, std::pair{novel, novel_weight}}) {
+    if (weight == 0 || !rows.any().item<bool>()) continue;
+    loss = loss + weight * F::cross_entropy(logits.index({rows}), labels.index({rows}));
+  }
+  return loss;
+}
+
 PerturbedTargets perturb_targets(const torch::Tensor& targets, const torch::Tensor& labels, std::int64_t count,
                                  double epsilon, double offset, std::mt19937_64& generator) {
   std::vector<std::int64_t> pool(static_cast<std::size_t>(targets.size(0)));

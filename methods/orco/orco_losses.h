@@ -21,6 +21,18 @@ torch::Tensor orthogonality_loss(const torch::Tensor& projections, const torch::
                                  const torch::Tensor& assigned_targets, const torch::Tensor& target_labels,
                                  const torch::Tensor& unassigned_targets);
 
+// The same over the samples of classes >= `from_class` only (OrCo's sessions: the new samples);
+// zero, without a graph, when the batch has none.
+torch::Tensor orthogonality_loss_from(std::int64_t from_class, const torch::Tensor& projections,
+                                      const torch::Tensor& labels, const torch::Tensor& assigned_targets,
+                                      const torch::Tensor& target_labels, const torch::Tensor& unassigned_targets);
+
+// OrCo's cross-entropy (the reference's pull_loss): the mean CE of the base samples (label <
+// `novel_from`) and that of the others, each over all of `logits`' classes, weighted apart. A
+// part without samples or with weight 0 adds nothing.
+torch::Tensor split_cross_entropy(const torch::Tensor& logits, const torch::Tensor& labels, std::int64_t novel_from,
+                                  double base_weight, double novel_weight);
+
 struct PerturbedTargets {
   torch::Tensor views;   // count x 2 x D, unit rows
   torch::Tensor labels;  // count

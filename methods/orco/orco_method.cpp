@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/embedding.h"
@@ -58,10 +59,12 @@ void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
   ProjectorObjective objective;
   objective.perturbed_targets = targets_.index_select(0, free_rows);
   objective.perturbed_labels = free_rows + context.total_classes;
-  train_projector(views, base.labels, settings_.base, objective, context, "projector");
+  objective.novel_from_class = base_classes_;
+  train_projector(views, base.labels, settings_.base, objective, {}, context, "projector");
   phase_two_projector_ = ParameterSnapshot(*projector_);
   memory_ = ReplayMemory();
-  memory_.keep_base_exemplars(base.features, base.labels, base_classes_, settings_.exemplars_per_base_class);
+  memory_.keep_base_exemplars(base, base_classes_, settings_.exemplars_per_base_class, settings_.exemplar_source,
+                              context.generator);
   if (context.validation != nullptr && context.progress != nullptr) {
     context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy_on(*context.validation)));
   }
@@ -140,7 +143,8 @@ torch::Tensor OrcoMethod::unassigned_targets() const {
 
 void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor& labels,
                                  const ProjectorSchedule& schedule, const ProjectorObjective& objective,
-                                 RunContext& context, const std::string& phase) {
+                                 const std::function<double()>& score, RunContext& context,
+                                 const std::string& phase) {
   const torch::Tensor assigned = seen_targets();
   const torch::Tensor assigned_labels = torch::arange(assigned.size(0), torch::kLong);
   const torch::Tensor unassigned = unassigned_targets();
@@ -150,9 +154,12 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
                                                             .weight_decay(schedule.weight_decay));
   const std::int64_t samples = views.size(0);
   std::vector<std::int64_t> order(static_cast<std::size_t>(samples));
+  const SessionStop& stop = settings_.session_stop;
+  std::optional<ParameterSnapshot> best;
+  double best_score = -1;
+  int epochs_trained = 0, checks_since_best = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
-    const double rate = schedule.final_rate + (schedule.learning_rate - schedule.final_rate) *
-                                                  (1.0 + std::cos(M_PI * epoch / schedule.epochs)) / 2.0;
+    const double rate = schedule.rate_at(epoch);
     for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
     std::iota(order.begin(), order.end(), 0);
     shuffle_with(order, context.generator);
@@ -173,15 +180,13 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
         contrast = torch::cat({projections, perturbed.views});
         contrast_labels = torch::cat({batch_labels, perturbed.labels});
       }
-      torch::Tensor loss = supervised_contrastive_loss(contrast, contrast_labels, settings_.supcon_temperature) +
-                           orthogonality_loss(projections.select(1, 0), batch_labels, assigned, assigned_labels,
-                                              unassigned);
-      const torch::Tensor covered = batch_labels.repeat({2}) >= objective.cross_entropy_from_class;
-      if (covered.any().item<bool>()) {
-        const torch::Tensor logits = projections.transpose(0, 1).flatten(0, 1).matmul(assigned.t());
-        loss = loss + objective.cross_entropy_weight *
-                          F::cross_entropy(logits.index({covered}), batch_labels.repeat({2}).index({covered}));
-      }
+      const torch::Tensor logits = projections.transpose(0, 1).flatten(0, 1).matmul(assigned.t());
+      const torch::Tensor loss =
+          supervised_contrastive_loss(contrast, contrast_labels, settings_.supcon_temperature) +
+          orthogonality_loss_from(objective.orthogonality_from_class, projections.select(1, 0), batch_labels,
+                                  assigned, assigned_labels, unassigned) +
+          split_cross_entropy(logits, batch_labels.repeat({2}), objective.novel_from_class, objective.base_ce_weight,
+                              objective.novel_ce_weight);
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
@@ -189,7 +194,30 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
       ++batches;
     }
     if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, loss_sum / batches);
+    epochs_trained = epoch + 1;
+    if (!score || (epochs_trained % stop.check_every != 0 && epochs_trained != schedule.epochs)) continue;
+    const double value = score();
+    if (value > best_score) {
+      best_score = value;
+      best = ParameterSnapshot(*projector_);
+      context.diagnostics["session_kept_epoch"] = epochs_trained;
+      checks_since_best = 0;
+    } else if (++checks_since_best >= stop.patience) {
+      break;
+    }
   }
+  if (!score) return;
+  context.diagnostics["session_epochs_trained"] = epochs_trained;
+  if (best) {
+    best->restore_into(*projector_);
+    context.diagnostics["session_stop_score"] = best_score;
+  }
+}
+
+double OrcoMethod::accuracy_of(const torch::Tensor& encodings, const torch::Tensor& labels) {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor predicted = project(encodings).matmul(seen_targets().t()).argmax(1);
+  return 100.0 * predicted.eq(labels).to(torch::kDouble).mean().item<double>();
 }
 
 void OrcoMethod::learn_session(const SessionData& support, RunContext& context) {
@@ -210,10 +238,28 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
   ProjectorObjective objective;
   objective.perturbed_targets = targets_.index_select(0, torch::tensor(rows));
   objective.perturbed_labels = torch::tensor(labels);
-  objective.cross_entropy_from_class = base_classes_;
-  objective.cross_entropy_weight = settings_.novel_ce_weight;
-  train_projector(encoded_views(memory_.features(), context), memory_.labels(), settings_.session, objective, context,
-                  fmt::format("session {}", support.session));
+  objective.novel_from_class = base_classes_;
+  objective.base_ce_weight = settings_.base_ce_weight;
+  objective.novel_ce_weight = settings_.novel_ce_weight;
+  objective.orthogonality_from_class = settings_.session_orthogonality_novel_only ? base_classes_ : 0;
+
+  std::function<double()> score;
+  if (settings_.session_stop.on_validation) {
+    if (context.validation == nullptr || context.validation->labels.size(0) == 0) {
+      throw MethodError("orco_session_stop=validation needs a non-empty base validation split; use "
+                        "orco_session_stop=last");
+    }
+    // The encoder is frozen: its embeddings of the validation split and of the shots are fixed.
+    const torch::Tensor validation = embed_in_batches(encoder_, context.validation->features);
+    const torch::Tensor shots = embed_in_batches(encoder_, support.features);
+    const torch::Tensor validation_labels = context.validation->labels, shot_labels = support.labels;
+    score = [this, validation, shots, validation_labels, shot_labels] {
+      const double base = accuracy_of(validation, validation_labels), novel = accuracy_of(shots, shot_labels);
+      return base + novel > 0 ? 2 * base * novel / (base + novel) : 0.0;
+    };
+  }
+  train_projector(encoded_views(memory_.features(), context), memory_.labels(), settings_.session, objective, score,
+                  context, fmt::format("session {}", support.session));
 }
 
 MethodState OrcoMethod::save_state() const {

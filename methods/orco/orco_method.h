@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -39,8 +40,9 @@ class OrcoMethod : public Method {
   // to perturb into the contrastive batch, and which classes the cross-entropy covers.
   struct ProjectorObjective {
     torch::Tensor perturbed_targets, perturbed_labels;
-    std::int64_t cross_entropy_from_class = 0;
-    double cross_entropy_weight = 1.0;
+    std::int64_t novel_from_class = 0;  // the cross-entropy weighs classes below it apart
+    double base_ce_weight = 1.0, novel_ce_weight = 1.0;
+    std::int64_t orthogonality_from_class = 0;  // orthogonality over these classes' samples only
   };
 
   void pretrain(const SessionData& base, RunContext& context);
@@ -52,8 +54,12 @@ class OrcoMethod : public Method {
   std::vector<std::int64_t> free_target_rows() const;
   torch::Tensor seen_targets() const;
   torch::Tensor unassigned_targets() const;
+  // `score` (may be empty: keep the last epoch) rates the projector for `session_stop`.
   void train_projector(const torch::Tensor& views, const torch::Tensor& labels, const ProjectorSchedule& schedule,
-                       const ProjectorObjective& objective, RunContext& context, const std::string& phase);
+                       const ProjectorObjective& objective, const std::function<double()>& score,
+                       RunContext& context, const std::string& phase);
+  // Accuracy (%) of encoder embeddings against the seen classes' targets.
+  double accuracy_of(const torch::Tensor& encodings, const torch::Tensor& labels);
 
   OrcoSettings settings_;
   ResNet18Encoder encoder_{nullptr};

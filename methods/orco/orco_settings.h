@@ -7,8 +7,9 @@ namespace fscil {
 
 class ParameterSet;
 
-// Projector training of phase 2 or of an incremental session: SGD with momentum and a cosine
-// decay of the learning rate to `final_rate` over the epochs, as the reference's schedules.
+// Projector training of phase 2 or of an incremental session: SGD with momentum, a linear
+// warmup from `warmup_start` over `warmup_epochs`, then a cosine decay of the learning rate to
+// `final_rate` over the remaining epochs, as the reference's LinearWarmupCosineAnnealingLR.
 struct ProjectorSchedule {
   int epochs = 10;
   double learning_rate = 0.25;
@@ -17,7 +18,24 @@ struct ProjectorSchedule {
   double momentum = 0.9;
   double dampening = 0.9;  // the reference's SGD damps momentum too
   int batch_size = 128;
+  int warmup_epochs = 0;
+  double warmup_start = 3e-5;
+
+  // The learning rate of epoch `epoch` (0-based).
+  double rate_at(int epoch) const;
 };
+
+// When a session's projector training stops and which epoch it keeps (ours: the reference kept
+// the best test-set harmonic mean). `validation`: every `check_every` epochs (and at the last)
+// the harmonic mean of the base-validation accuracy and the new classes' accuracy on their own
+// shots; the best state is kept, training stops after `patience` checks without a better one.
+struct SessionStop {
+  bool on_validation = true;  // orco_session_stop=validation | last
+  int check_every = 5;
+  int patience = 3;
+};
+
+enum class ExemplarSource { recordings, first };
 
 // OrCo's hyper-parameters as named options. Defaults are the reference code's best configs
 // (noorahmedds/OrCo) unless docs/methods.md marks them as ours.
@@ -34,10 +52,14 @@ struct OrcoSettings {
   double perturb_offset = 0.5;
 
   ProjectorSchedule base;                                 // phase 2: 10 epochs, lr 0.25, wd 5e-4
-  ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64};  // sessions: 100 epochs, lr 0.1, wd 1e-4
-  double novel_ce_weight = 0.5;
+  ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64, 10};  // sessions: 100 epochs, lr 0.1, wd 1e-4
+  SessionStop session_stop;
+  double novel_ce_weight = 0.5;  // the reference's cos_n_lam
+  double base_ce_weight = 0.5;   // the reference's cos_b_lam (parser default)
+  bool session_orthogonality_novel_only = true;  // orco_session_orthogonality=novel | all
 
   int exemplars_per_base_class = 5;
+  ExemplarSource exemplar_source = ExemplarSource::recordings;  // orco_exemplars_from
   int views = 4;                  // cached masked views per sample (ours)
   double mask_time_fraction = 0.2;  // widest time mask, share of the frames (ours)
   double mask_mel_fraction = 0.2;   // widest Mel mask, share of the bins (ours)

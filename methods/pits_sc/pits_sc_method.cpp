@@ -25,10 +25,10 @@ void PitsScMethod::build_network(RunContext& context) {
   classifier_ = StochasticClassifier(context.total_classes, encoder_->embedding_size(), settings_.temperature);
 }
 
-TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
-                                                   RunContext& /*context*/) {
+TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, const InputNormHook& mix,
+                                                   const torch::Tensor& probe_rows, RunContext& /*context*/) {
   if (probe_rows.defined()) throw MethodError("pits-sc has no probes to replace rows with");
-  return {encoder_->forward(features), {}};
+  return {encoder_->forward(features, mix), {}};
 }
 
 void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
@@ -58,16 +58,22 @@ void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
   const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
     if (!use_cutmix(context.generator)) {
       const TrainingEmbedding embedded =
-          training_embedding(features, pretraining_probe_rows(features.size(0), context), context);
+          training_embedding(features, {}, pretraining_probe_rows(features.size(0), context), context);
       return parts_of(embedded, F::cross_entropy(classifier_->forward(embedded.embedding, classes, false), labels));
     }
-    const CutMixBatch mixed = cutmix(features, labels, settings_.cutmix_alpha, context.generator);
+    const CutMixPlan plan =
+        plan_cutmix(features.size(0), features.size(2), features.size(3), settings_.cutmix_alpha, context.generator);
+    // After bn0 (the released placement) bn0's batch statistics are those of the clean batch.
+    const bool after_norm = settings_.cutmix_after_input_norm;
+    const InputNormHook mix = [&plan](const torch::Tensor& map) { return plan.apply(map); };
     const TrainingEmbedding embedded =
-        training_embedding(mixed.features, pretraining_probe_rows(features.size(0), context), context);
+        training_embedding(after_norm ? features : plan.apply(features), after_norm ? mix : InputNormHook{},
+                           pretraining_probe_rows(features.size(0), context), context);
     const torch::Tensor logits = classifier_->forward(embedded.embedding, classes, false);
     if (!settings_.cutmix_loss_mixed) return parts_of(embedded, F::cross_entropy(logits, labels));  // released
-    return parts_of(embedded, mixed.kept_fraction * F::cross_entropy(logits, labels) +
-                                  (1 - mixed.kept_fraction) * F::cross_entropy(logits, mixed.partner_labels));
+    const torch::Tensor partner_labels = labels.index_select(0, plan.partners);
+    return parts_of(embedded, plan.kept_fraction * F::cross_entropy(logits, labels) +
+                                  (1 - plan.kept_fraction) * F::cross_entropy(logits, partner_labels));
   };
   train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
   means.record(context.diagnostics, "pretraining");
@@ -79,7 +85,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
   std::vector<torch::Tensor> parameters = network_parameters();
   for (const auto& parameter : classifier_->parameters()) parameters.push_back(parameter);
   const TrainingEmbedder embedder = [&](const torch::Tensor& features, const torch::Tensor& probe_rows) {
-    return training_embedding(features, probe_rows, context);
+    return training_embedding(features, {}, probe_rows, context);
   };
   LossPartMeans means;
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, settings_.pit);

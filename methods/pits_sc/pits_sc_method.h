@@ -33,10 +33,11 @@ class PitsScMethod : public Method {
   // Builds the modules for this protocol; cop-fscil adds its adapter.
   virtual void build_network(RunContext& context);
   virtual std::vector<torch::Tensor> network_parameters() { return encoder_->parameters(); }
-  // A batch through the network in training mode, `probe_rows` (undefined = none) replaced by
-  // probes inside the network; cop-fscil adds CPI, PCQA and L_PIC.
-  virtual TrainingEmbedding training_embedding(const torch::Tensor& features, const torch::Tensor& probe_rows,
-                                               RunContext& context);
+  // A batch through the network in training mode, `mix` (may be empty: PITS-SC's CutMix) applied
+  // right after the input norm, then `probe_rows` (undefined = none) replaced by probes inside
+  // the network; cop-fscil adds CPI, PCQA and L_PIC.
+  virtual TrainingEmbedding training_embedding(const torch::Tensor& features, const InputNormHook& mix,
+                                               const torch::Tensor& probe_rows, RunContext& context);
   // Rows of a pretraining batch of `batch` samples to probe (cop-fscil's CPI during pretraining).
   virtual torch::Tensor pretraining_probe_rows(std::int64_t /*batch*/, RunContext& /*context*/) { return {}; }
   // Each pseudo-incremental episode passes here before its loss; cop-fscil chooses CPI's rows.

@@ -11,6 +11,7 @@ PitsScSettings PitsScSettings::from(const ParameterSet& params) {
   s.pretrain = SupervisedSchedule::from(params);
   s.p_cutmix = params.real("p_cutmix", s.p_cutmix);
   s.cutmix_alpha = params.real("cutmix_alpha", s.cutmix_alpha);
+  s.cutmix_after_input_norm = params.choice("cutmix_space", "standardised", {"standardised", "raw"}) == "standardised";
   s.cutmix_loss_mixed = params.choice("cutmix_loss", "original", {"original", "mixed"}) == "mixed";
 
   s.pit = s.pretrain;

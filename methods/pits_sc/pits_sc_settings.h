@@ -11,7 +11,8 @@ class ParameterSet;
 struct PitsScSettings {
   SupervisedSchedule pretrain;  // stage A: pretrain_epochs, pretrain_lr, batch_size, ...
   double p_cutmix = 0.6;        // released LS-100 value (ours for tactile data: the paper is silent)
-  double cutmix_alpha = 1.0;
+  double cutmix_alpha = 0.8;       // released pre_mixup_alpha
+  bool cutmix_after_input_norm = true;  // cutmix_space=standardised (released: after bn0) | raw
   bool cutmix_loss_mixed = false;  // cutmix_loss=original (released) | mixed
 
   SupervisedSchedule pit;  // stage B: pit_epochs, pit_lr; the rest as stage A

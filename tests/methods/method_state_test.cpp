@@ -13,7 +13,8 @@ ParameterSet tiny_params() {
   for (const auto& [key, value] :
        {std::pair{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pit_epochs", "1"}, {"pit_episodes", "2"},
         {"epochs_new", "5"}, {"orco_base_epochs", "1"}, {"orco_session_epochs", "2"}, {"orco_views", "2"},
-        {"orco_target_steps", "20"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}}) {
+        {"orco_target_steps", "20"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"},
+        {"orco_session_stop", "last"}}) {
     params.set(key, value);
   }
   return params;

@@ -1,12 +1,16 @@
-// OrCo's parts on their own: pseudo-targets, the contrastive and orthogonality losses, target
-// perturbation, target assignment and the masked views.
+// OrCo's parts on their own: pseudo-targets, the contrastive, orthogonality and cross-entropy
+// losses, target perturbation, target assignment, the masked views, the session learning-rate
+// schedule and the replay memory's choice of base exemplars.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 
 #include "methods/common/masked_view.h"
 #include "methods/orco/orco_losses.h"
+#include "methods/orco/orco_settings.h"
 #include "methods/orco/pseudo_targets.h"
+#include "methods/orco/replay_memory.h"
 
 namespace fscil {
 namespace {
@@ -97,6 +101,124 @@ TEST(OrcoLosses, OrthogonalityIsTheSpreadOfBatchClassMeansAbsentTargetsAndFreeTa
   EXPECT_NEAR(got.item<double>(), expected.item<double>(), 1e-6);
   // Spread by hand for two orthogonal directions: each row is log(e^1 + e^0).
   EXPECT_NEAR(spread_loss(torch::eye(2)).item<double>(), std::log(std::exp(1.0) + 1.0), 1e-6);
+}
+
+TEST(OrcoLosses, SessionOrthogonalitySeesTheNewClassesSamplesOnly) {
+  torch::manual_seed(6);
+  const torch::Tensor projections = torch::randn({6, 4}).requires_grad_();
+  const torch::Tensor labels = torch::tensor(std::vector<std::int64_t>{0, 3, 1, 3, 4, 0});  // 3, 4 are new
+  const torch::Tensor assigned = F::normalize(torch::randn({5, 4}), F::NormalizeFuncOptions().dim(1));
+  const torch::Tensor free = F::normalize(torch::randn({2, 4}), F::NormalizeFuncOptions().dim(1));
+  const torch::Tensor targets_of = torch::arange(5);
+  const torch::Tensor novel = labels >= 3;
+  const torch::Tensor got = orthogonality_loss_from(3, projections, labels, assigned, targets_of, free);
+  const torch::Tensor expected =
+      orthogonality_loss(projections.index({novel}), labels.index({novel}), assigned, targets_of, free);
+  EXPECT_NEAR(got.item<double>(), expected.item<double>(), 1e-7);
+  got.backward();
+  const torch::Tensor gradient_norms = projections.grad().norm(2, 1);
+  for (std::int64_t i = 0; i < 6; ++i) {
+    if (novel[i].item<bool>()) {
+      EXPECT_GT(gradient_norms[i].item<double>(), 0) << "row " << i;
+    } else {
+      EXPECT_EQ(gradient_norms[i].item<double>(), 0) << "row " << i;
+    }
+  }
+  // From class 0 it is the whole batch's; with no new sample in the batch it is zero.
+  EXPECT_NEAR(orthogonality_loss_from(0, projections, labels, assigned, targets_of, free).item<double>(),
+              orthogonality_loss(projections, labels, assigned, targets_of, free).item<double>(), 1e-7);
+  EXPECT_EQ(orthogonality_loss_from(5, projections, labels, assigned, targets_of, free).item<double>(), 0.0);
+}
+
+TEST(OrcoLosses, SplitCrossEntropyWeighsBaseAndNewSamplesApartAndSendsGradientOnlyThroughItsOwnRows) {
+  torch::manual_seed(8);
+  const torch::Tensor logits = torch::randn({6, 5}).requires_grad_();
+  const torch::Tensor labels = torch::tensor(std::vector<std::int64_t>{0, 3, 1, 4, 2, 3});
+  const torch::Tensor base = labels < 3;
+  const double base_mean = F::cross_entropy(logits.index({base}), labels.index({base})).item<double>();
+  const double novel_mean = F::cross_entropy(logits.index({~base}), labels.index({~base})).item<double>();
+  EXPECT_NEAR(split_cross_entropy(logits, labels, 3, 0.6, 0.5).item<double>(), 0.6 * base_mean + 0.5 * novel_mean,
+              1e-6);
+
+  for (const auto& [base_weight, novel_weight] : {std::pair{0.5, 0.0}, std::pair{0.0, 0.5}}) {
+    if (logits.grad().defined()) logits.grad().zero_();
+    split_cross_entropy(logits, labels, 3, base_weight, novel_weight).backward();
+    const torch::Tensor moved = logits.grad().abs().sum(1) > 0;
+    EXPECT_TRUE(torch::equal(moved, base_weight > 0 ? base : ~base)) << base_weight << " " << novel_weight;
+  }
+  // Weight 0 on both, or no sample on the weighted side: nothing.
+  EXPECT_EQ(split_cross_entropy(logits, labels, 3, 0.0, 0.0).item<double>(), 0.0);
+  EXPECT_EQ(split_cross_entropy(logits, labels, 9, 0.0, 1.0).item<double>(), 0.0);
+}
+
+TEST(OrcoSchedule, SessionsWarmUpLinearlyFromThreeTimesTenToTheMinusFiveThenDecayByCosine) {
+  ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64, 10};
+  EXPECT_DOUBLE_EQ(session.rate_at(0), 3e-5);
+  EXPECT_NEAR(session.rate_at(1), 3e-5 + (0.1 - 3e-5) / 9, 1e-12);
+  EXPECT_NEAR(session.rate_at(9), 0.1, 1e-12);
+  EXPECT_NEAR(session.rate_at(10), 0.1, 1e-12);
+  EXPECT_NEAR(session.rate_at(55), 0.05, 1e-12);  // half way through the 90 cosine epochs
+  EXPECT_NEAR(session.rate_at(99), 0.05 * (1 + std::cos(M_PI * 89 / 90)), 1e-12);
+  // Without warmup it is the plain cosine from the first epoch.
+  ProjectorSchedule plain = session;
+  plain.warmup_epochs = 0;
+  EXPECT_DOUBLE_EQ(plain.rate_at(0), 0.1);
+  EXPECT_NEAR(plain.rate_at(50), 0.05, 1e-12);
+}
+
+// 2 classes: class 0 from 8 recordings of 4 consecutive segments, class 1 from 2 recordings of 10.
+SessionData segmented_base() {
+  SessionData base;
+  std::vector<std::int64_t> labels;
+  for (int recording = 0; recording < 10; ++recording) {
+    const int segments = recording < 8 ? 4 : 10;
+    for (int k = 0; k < segments; ++k) {
+      labels.push_back(recording < 8 ? 0 : 1);
+      base.recordings.push_back(recording);
+    }
+  }
+  base.labels = torch::tensor(labels);
+  base.features = torch::arange(static_cast<std::int64_t>(labels.size())).to(torch::kFloat).view({-1, 1, 1, 1});
+  base.new_classes = {0, 1};
+  return base;
+}
+
+std::vector<std::set<std::int64_t>> recordings_per_class(const ReplayMemory& memory, const SessionData& base) {
+  std::vector<std::set<std::int64_t>> recordings(2);
+  const torch::Tensor rows = memory.features().flatten().to(torch::kLong);
+  for (std::int64_t i = 0; i < rows.size(0); ++i) {
+    const std::int64_t row = rows[i].item<std::int64_t>();
+    recordings[static_cast<std::size_t>(base.labels[row].item<std::int64_t>())].insert(
+        base.recordings[static_cast<std::size_t>(row)]);
+  }
+  return recordings;
+}
+
+TEST(OrcoReplayMemory, BaseExemplarsComeFromAsManyDistinctRecordingsAsTheClassHasUpToFive) {
+  const SessionData base = segmented_base();
+  std::mt19937_64 generator(1);
+  ReplayMemory memory;
+  memory.keep_base_exemplars(base, 2, 5, ExemplarSource::recordings, generator);
+  ASSERT_EQ(memory.samples(), 10);
+  EXPECT_EQ(memory.labels().eq(0).sum().item<std::int64_t>(), 5);
+  const auto spread = recordings_per_class(memory, base);
+  EXPECT_EQ(spread[0].size(), 5u);  // min(5, 8)
+  EXPECT_EQ(spread[1].size(), 2u);  // min(5, 2): both, then round again
+  EXPECT_EQ(std::set<float>(memory.features().data_ptr<float>(), memory.features().data_ptr<float>() + 10).size(),
+            10u) << "no segment twice";
+
+  // The same seed picks the same; another seed other ones.
+  std::mt19937_64 same(1), other(2);
+  ReplayMemory again, elsewhere;
+  again.keep_base_exemplars(base, 2, 5, ExemplarSource::recordings, same);
+  elsewhere.keep_base_exemplars(base, 2, 5, ExemplarSource::recordings, other);
+  EXPECT_TRUE(torch::equal(again.features(), memory.features()));
+  EXPECT_FALSE(torch::equal(elsewhere.features(), memory.features()));
+
+  // The reference's "first five": consecutive segments, two recordings of class 0.
+  ReplayMemory first;
+  first.keep_base_exemplars(base, 2, 5, ExemplarSource::first, generator);
+  EXPECT_EQ(recordings_per_class(first, base)[0], (std::set<std::int64_t>{0, 1}));
 }
 
 TEST(OrcoLosses, PerturbedTargetsKeepTheirLabelsStayUnitAndCycleWhenTooFew) {

@@ -21,6 +21,7 @@ ParameterSet tiny_params(int session_epochs) {
     params.set(key, value);
   }
   params.set("orco_session_epochs", std::to_string(session_epochs));
+  params.set("orco_session_stop", "last");  // the tiny context has no validation split
   return params;
 }
 
@@ -30,9 +31,12 @@ struct TrainedOrco {
   OrcoMethod& orco() { return dynamic_cast<OrcoMethod&>(*method); }
 };
 
-TrainedOrco train(int session_epochs, std::uint64_t seed = 3) {
+using Settings = std::vector<std::pair<std::string, std::string>>;
+
+TrainedOrco train(int session_epochs, std::uint64_t seed = 3, const Settings& settings = {}) {
   torch::manual_seed(seed);
   ParameterSet params = tiny_params(session_epochs);
+  for (const auto& [key, value] : settings) params.set(key, value);
   TrainedOrco trained{create_method("orco", params), tiny_context(seed)};
   trained.method->train_base(tiny_base(), trained.context);
   return trained;
@@ -59,7 +63,7 @@ TEST(Orco, SessionsStartFromTheProjectorOfPhaseTwo) {
 }
 
 TEST(Orco, ReplayMemoryHoldsTheFirstFiveOfEachBaseClassThenEveryShot) {
-  TrainedOrco trained = train(/*session_epochs=*/1);
+  TrainedOrco trained = train(/*session_epochs=*/1, 3, {{"orco_exemplars_from", "first"}});
   const ReplayMemory& memory = trained.orco().replay_memory();
   ASSERT_EQ(memory.samples(), 6 * 5);
   // tiny_base lists 25 samples per class in class order: the first five are rows 25c .. 25c+4.
@@ -112,6 +116,36 @@ TEST(Orco, SameSeedRepeatsExactly) {
     result = trained.method->logits(torch::randn({6, 2, 4, 4}));
   }
   EXPECT_TRUE(torch::equal(logits[0], logits[1]));
+}
+
+// With the validation stop, the projector a session ends with is the one whose harmonic mean
+// of base-validation and own-shot accuracy was best at a check; patience 1 stops at the first
+// check that is not better.
+TEST(Orco, SessionKeepsTheProjectorOfItsBestValidationCheck) {
+  const Settings stop = {{"orco_session_stop", "validation"}, {"orco_session_check", "2"}, {"orco_session_patience", "1"}};
+  TrainedOrco trained = train(/*session_epochs=*/30, 3, stop);
+  torch::manual_seed(12);
+  const SessionData validation = tiny_base();  // six base classes, like the base validation split
+  trained.context.validation = &validation;
+  const SessionData shots = tiny_support(6);
+  trained.method->learn_session(shots, trained.context);
+
+  const auto& diagnostics = trained.context.diagnostics;
+  ASSERT_EQ(diagnostics.count("session_stop_score"), 1u);
+  const double trained_epochs = diagnostics.at("session_epochs_trained"), kept = diagnostics.at("session_kept_epoch");
+  EXPECT_EQ(static_cast<int>(kept) % 2, 0);
+  EXPECT_LE(kept, trained_epochs);
+  EXPECT_EQ(trained_epochs, std::min(30.0, kept + 2)) << "stops at the first check after the best";
+  const auto accuracy = [&](const SessionData& data) {
+    const torch::Tensor predicted = trained.method->logits(data.features.all()).argmax(1);
+    return 100.0 * predicted.eq(data.labels).to(torch::kDouble).mean().item<double>();
+  };
+  const double base = accuracy(validation), novel = accuracy(shots);
+  EXPECT_NEAR(diagnostics.at("session_stop_score"), 2 * base * novel / (base + novel), 1e-9);
+
+  // Without a validation split the stop cannot be computed: one clear error.
+  TrainedOrco blind = train(/*session_epochs=*/2, 3, stop);
+  EXPECT_THROW(blind.method->learn_session(tiny_support(6), blind.context), MethodError);
 }
 
 TEST(Orco, IsRegisteredAndPartOfAll) {

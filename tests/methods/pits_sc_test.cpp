@@ -46,15 +46,15 @@ TEST(StochasticClassifier, TrainingNoiseHasStandardDeviationSoftplusOfSigmaMinus
 TEST(CutMix, PastesOneBoxFromAPartnerAndReportsTheKeptArea) {
   std::mt19937_64 generator(5);
   const torch::Tensor features = torch::arange(4).to(torch::kFloat).view({4, 1, 1, 1}).expand({4, 1, 8, 10}).contiguous();
-  const torch::Tensor labels = torch::arange(4);
-  const CutMixBatch mixed = cutmix(features, labels, 1.0, generator);
+  const CutMixPlan plan = plan_cutmix(4, 8, 10, 1.0, generator);
+  const torch::Tensor mixed = plan.apply(features);
   for (std::int64_t i = 0; i < 4; ++i) {
-    const auto sample = mixed.features[i];
+    const auto sample = mixed[i];
     const double own = (sample == static_cast<float>(i)).to(torch::kDouble).mean().item<double>();
-    const double partner = mixed.partner_labels[i].item<double>();
+    const double partner = plan.partners[i].item<double>();
     const double from_partner = (sample == static_cast<float>(partner)).to(torch::kDouble).mean().item<double>();
     if (partner == i) continue;
-    EXPECT_NEAR(own, mixed.kept_fraction, 1e-9);
+    EXPECT_NEAR(own, plan.kept_fraction, 1e-9);
     EXPECT_NEAR(own + from_partner, 1.0, 1e-9);
   }
 }
@@ -209,6 +209,30 @@ TEST_F(TinyPitsSc, FineTuningMovesSeenRowsThroughTheLossAndNeverUnseenOnes) {
   EXPECT_FALSE(torch::equal(method->classifier()->sigma.detach().narrow(0, 0, 8), sigma_before.narrow(0, 0, 8)));
   EXPECT_TRUE(torch::equal(mu.narrow(0, 8, 2), mu_before.narrow(0, 8, 2)));  // classes 8, 9 not seen yet
   EXPECT_TRUE(torch::equal(method->classifier()->sigma.detach().narrow(0, 8, 2), sigma_before.narrow(0, 8, 2)));
+}
+
+// bn0's running statistics depend only on the batches it normalises. With CutMix after bn0 (the
+// released placement) every batch reaches bn0 clean, so one pretraining epoch in which every
+// batch is CutMixed leaves bn0 exactly as an epoch without CutMix. Before bn0 they agree up to
+// rounding: the box is the same for the whole batch and its partners are a permutation of it,
+// so each Mel bin's batch holds the same values, summed in another order.
+TEST_F(TinyPitsSc, CutMixAfterTheInputNormLeavesItsStatisticsThoseOfTheCleanBatches) {
+  const auto bn0_after_pretraining = [&](const char* p_cutmix, const char* space) {
+    ParameterSet params = tiny_params(0);
+    params.set("pit_epochs", "0");
+    params.set("p_cutmix", p_cutmix);
+    params.set("cutmix_space", space);
+    params.set("cutmix_alpha", "1");
+    torch::manual_seed(2);
+    PitsScMethod method(params);
+    context = tiny_context(2);
+    method.train_base(base, context);
+    const auto buffers = method.encoder()->named_buffers();
+    return torch::cat({buffers["bn0.running_mean"], buffers["bn0.running_var"]});
+  };
+  const torch::Tensor clean = bn0_after_pretraining("0", "standardised");
+  EXPECT_TRUE(torch::equal(bn0_after_pretraining("1", "standardised"), clean));
+  EXPECT_TRUE(torch::allclose(bn0_after_pretraining("1", "raw"), clean, 1e-5, 1e-6));
 }
 
 TEST_F(TinyPitsSc, SeededRunsRepeatExactly) {
