@@ -49,7 +49,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
     SummaryRow row;
     row.method = method;
     row.dataset = dataset;
-    std::vector<std::vector<double>> per_session;
+    std::vector<std::vector<double>> per_session, base_per_session, novel_per_session, harmonic_per_session;
     std::vector<double> aa, pd, adr;
     for (const auto& record : records) {
       if (record.method != method || record.dataset != dataset) continue;
@@ -62,14 +62,27 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
                                       per_session.size(), accuracies.size()));
       }
       per_session.resize(accuracies.size());
-      for (std::size_t s = 0; s < accuracies.size(); ++s) per_session[s].push_back(accuracies[s]);
+      base_per_session.resize(accuracies.size());
+      novel_per_session.resize(accuracies.size());
+      harmonic_per_session.resize(accuracies.size());
+      for (std::size_t s = 0; s < accuracies.size(); ++s) {
+        per_session[s].push_back(accuracies[s]);
+        base_per_session[s].push_back(record.sessions[s].accuracy.base);
+        novel_per_session[s].push_back(record.sessions[s].accuracy.novel);
+        harmonic_per_session[s].push_back(record.sessions[s].accuracy.harmonic);
+      }
       const FscilSummary summary = summarize_sessions(accuracies);
       aa.push_back(summary.average_accuracy);
       pd.push_back(summary.performance_drop);
       adr.push_back(summary.average_drop_rate);
       row.seeds.push_back(record.seed);
     }
-    for (const auto& values : per_session) row.session_accuracy.push_back(statistic_of(values));
+    for (std::size_t s = 0; s < per_session.size(); ++s) {
+      row.session_accuracy.push_back(statistic_of(per_session[s]));
+      row.session_base_accuracy.push_back(statistic_of(base_per_session[s]));
+      row.session_novel_accuracy.push_back(statistic_of(novel_per_session[s]));
+      row.session_harmonic_mean.push_back(statistic_of(harmonic_per_session[s]));
+    }
     row.average_accuracy = statistic_of(aa);
     row.performance_drop = statistic_of(pd);
     row.average_drop_rate = statistic_of(adr);

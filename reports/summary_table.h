@@ -22,6 +22,9 @@ struct SummaryRow {
   std::string dataset;
   std::vector<std::uint64_t> seeds;
   std::vector<SeedStatistic> session_accuracy;
+  // Per session, on the base classes' samples, on the novel classes' samples and their harmonic
+  // mean (the novel ones and the harmonic mean are 0 in the base session).
+  std::vector<SeedStatistic> session_base_accuracy, session_novel_accuracy, session_harmonic_mean;
   SeedStatistic average_accuracy, performance_drop, average_drop_rate;
 };
 
@@ -42,5 +45,8 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records);
 std::string render_csv(const SummaryTable& table);
 std::string render_latex(const SummaryTable& table);
 std::string render_markdown(const SummaryTable& table);
+// Tidy per-session CSV, one line per (method, dataset, session): all, base and novel accuracy and
+// their harmonic mean, each with its std over seeds; novel and harmonic mean empty in session 0.
+std::string render_sessions_csv(const SummaryTable& table);
 
 }  // namespace fscil

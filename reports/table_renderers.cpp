@@ -109,6 +109,21 @@ std::string render_csv(const SummaryTable& table) {
   return out;
 }
 
+std::string render_sessions_csv(const SummaryTable& table) {
+  std::string out = "method,dataset,split,seeds,session,accuracy,accuracy_std,base,base_std,novel,novel_std,"
+                    "harmonic_mean,harmonic_mean_std\n";
+  const auto both = [](const SeedStatistic& statistic) { return fmt::format("{:.4f},{:.4f}", statistic.mean, statistic.std); };
+  for (const auto& row : table.rows) {
+    for (std::size_t s = 0; s < row.session_accuracy.size(); ++s) {
+      out += fmt::format("{},{},{},{},{},{},{},{},{}\n", row.method, row.dataset, table.evaluated_on,
+                         fmt::join(row.seeds, " "), s, both(row.session_accuracy[s]), both(row.session_base_accuracy[s]),
+                         s == 0 ? "," : both(row.session_novel_accuracy[s]),
+                         s == 0 ? "," : both(row.session_harmonic_mean[s]));
+    }
+  }
+  return out;
+}
+
 std::string render_latex(const SummaryTable& table) {
   const bool with_std = table.several_seeds();
   std::string out = "% fscil-bench results; requires \\usepackage{booktabs,multirow}\n";

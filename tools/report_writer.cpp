@@ -10,6 +10,7 @@ namespace fscil {
 std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records) {
   const SummaryTable table = summarize_runs(records);
   write_file_atomically(out / "summary.csv", render_csv(table));
+  write_file_atomically(out / "sessions.csv", render_sessions_csv(table));
   write_file_atomically(out / "results.tex", render_latex(table));
   const std::vector<CostRow> costs = summarize_costs(records);
   write_file_atomically(out / "costs.csv", render_cost_csv(costs));

@@ -6,7 +6,7 @@
 
 namespace fscil {
 
-// Writes summary.csv, results.tex, costs.csv and costs.tex into `out` and returns the Markdown
+// Writes summary.csv, sessions.csv, results.tex, costs.csv and costs.tex into `out` and returns the Markdown
 // tables (accuracy, then cost).
 std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 

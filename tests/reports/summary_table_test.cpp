@@ -116,6 +116,19 @@ TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
                     "90.0000,80.0000\n");
 }
 
+TEST(SummaryTable, SessionsCsvHoldsBaseNovelAndHarmonicMeanPerSession) {
+  RunRecord first = record_of("orco", 1, {90, 80}), second = record_of("orco", 2, {80, 70});
+  first.sessions[1].accuracy.novel = 40;
+  first.sessions[1].accuracy.harmonic = 53.125;
+  second.sessions[1].accuracy.novel = 60;
+  second.sessions[1].accuracy.harmonic = 64.5;
+  EXPECT_EQ(render_sessions_csv(summarize_runs({first, second})),
+            "method,dataset,split,seeds,session,accuracy,accuracy_std,base,base_std,novel,novel_std,harmonic_mean,"
+            "harmonic_mean_std\n"
+            "orco,simtex,test,1 2,0,85.0000,7.0711,86.0000,7.0711,,,,\n"
+            "orco,simtex,test,1 2,1,75.0000,7.0711,76.0000,7.0711,50.0000,14.1421,58.8125,8.0433\n");
+}
+
 TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
   RunRecord on_validation = record_of("prototype", 2, {80, 70});
   on_validation.evaluated_on = "validation";

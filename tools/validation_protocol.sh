@@ -1,22 +1,24 @@
 #!/usr/bin/env bash
-# The validation protocol behind CoP-FSCIL's defaults (docs/methods.md): one configuration per
-# reading, each run with --evaluate-on validation on simtex with strong, shifted context and on
-# simtex as it is, fast profile, seeds 1-3. Never scored on test. Interrupted runs continue with
-# the same command (--resume); finished configurations are kept.
-#   bash tools/cop_fscil_validation.sh OUT [CONFIG ...]   run (all configurations by default)
-#   bash tools/cop_fscil_validation.sh OUT --table        AA and PD per configuration so far
+# The validation protocol behind the defaults of CoP-FSCIL and OrCo (docs/methods.md): one
+# configuration per reading, each run with --evaluate-on validation on simtex with strong, shifted
+# context and on simtex as it is, fast profile, seeds 1-3. Never scored on test. Interrupted runs
+# continue with the same command (--resume); finished configurations are kept.
+#   bash tools/validation_protocol.sh GROUP OUT [CONFIG ...]  run a group (cop-fscil or orco;
+#                                                            all its configurations by default)
+#   bash tools/validation_protocol.sh GROUP OUT --table       AA, PD and the last session so far
 # SETTINGS=shifted (or nominal) runs one of the two settings only; THREADS (default 2) sets
 # --threads, so two queues of configurations can share a 2-core machine at THREADS=1 (numbers
 # are comparable only between runs with the same thread count).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 bench=${FSCIL_BENCH:-$root/build/tools/fscil-bench}
-out=${1:?usage: $0 OUT [CONFIG ...|--table]}
-shift
+group=${1:?usage: $0 cop-fscil|orco OUT [CONFIG ...|--table]}
+out=${2:?usage: $0 cop-fscil|orco OUT [CONFIG ...|--table]}
+shift 2
 
 # name | methods | --set assignments (space separated). The first of each group is the reading
 # in force before the comparison; see docs/methods.md for which one each decision kept.
-configs=(
+cop_fscil_configs=(
   "pits-sc|pits-sc|"
   "cpi-legacy|cop-fscil/cpi|cpi_space=raw cpi_distance=raw cpi_references=same"
   "cpi|cop-fscil/cpi|"
@@ -27,6 +29,7 @@ configs=(
   "cpi-kept-split|cop-fscil/cpi|cpi_kept=split"
   "cpi-distance-raw|cop-fscil/cpi|cpi_distance=raw"
   "cpi-alpha-0.5|cop-fscil/cpi|cpi_mix_alpha=0.5"
+  "cpi-view-half|cop-fscil/cpi|cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
   "full|cop-fscil|"
   "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
   "full-pic-normalised|cop-fscil|pic_space=normalised"
@@ -34,6 +37,20 @@ configs=(
   "full-pspc-original|cop-fscil|pspc_mean=original"
   "full-pretrain-cpi|cop-fscil|cpi_pretrain_coverage=0.5"
 )
+orco_legacy="orco_base_ce_weight=0 orco_session_orthogonality=all orco_session_warmup=0 orco_session_stop=last orco_exemplars_from=first"
+orco_configs=(
+  "orco-legacy|orco|$orco_legacy"
+  "orco|orco|"
+  "orco-no-base-ce|orco|orco_base_ce_weight=0"
+  "orco-stop-last|orco|orco_session_stop=last"
+  "orco-exemplars-first|orco|orco_exemplars_from=first"
+  "orco-orthogonality-all|orco|orco_session_orthogonality=all"
+)
+case $group in
+  cop-fscil) configs=("${cop_fscil_configs[@]}") ;;
+  orco) configs=("${orco_configs[@]}") ;;
+  *) echo "$0: unknown group '$group' (expected cop-fscil or orco)" >&2; exit 2 ;;
+esac
 settings=(
   "shifted|context_strength=2 context_shift=device"
   "nominal|context_strength=1"
