@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "datasets/dataset_error.h"
+#include "datasets/parallel_for.h"
 
 namespace fscil {
 
@@ -147,19 +148,13 @@ void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std:
   }
   if (rows == 0) return;
   const int available = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const int workers = static_cast<int>(std::min<std::int64_t>(available, rows));
-  if (workers <= 1) {
-    extract_range(signals, 0, rows, length, out);
-    return;
-  }
-  std::vector<std::thread> pool;
+  const auto workers = static_cast<std::int64_t>(std::min<std::int64_t>(available, rows));
+  // One contiguous block of rows per worker: extract_range sets up its FFT buffers once per call.
   const std::int64_t chunk = (rows + workers - 1) / workers;
-  for (int w = 0; w < workers; ++w) {
-    const std::int64_t first = w * chunk, last = std::min(rows, first + chunk);
-    if (first >= last) break;
-    pool.emplace_back([=] { extract_range(signals, first, last, length, out); });
-  }
-  for (auto& thread : pool) thread.join();
+  parallel_for(static_cast<std::size_t>((rows + chunk - 1) / chunk), static_cast<int>(workers), [&](std::size_t block) {
+    const std::int64_t first = static_cast<std::int64_t>(block) * chunk, last = std::min(rows, first + chunk);
+    extract_range(signals, first, last, length, out);
+  });
 }
 
 // Compiled twice, for AVX2 and for any x86-64, chosen at load time: the windowing, power, Mel and

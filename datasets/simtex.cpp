@@ -3,8 +3,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <thread>
 
+#include "datasets/parallel_for.h"
 #include "datasets/simtex_random.h"
 
 namespace fscil {
@@ -51,22 +51,16 @@ std::vector<Recording> generate_simtex(const SimtexConfig& config, int threads) 
 
   const int total = config.classes * config.recordings_per_class;
   std::vector<Recording> recordings(total);
-  const int workers = std::max(1, threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int w = 0; w < workers; ++w) {
-    pool.emplace_back([&, w] {
-      for (int index = w; index < total; index += workers) {
-        const int y = index / config.recordings_per_class, r = index % config.recordings_per_class;
-        auto rng = simtex_random::generator(config.seed, simtex_random::Purpose::recording_signal, y, r);
-        Recording recording = simulate_recording(config, materials[y], simtex_context(config, y, r), rng);
-        recording.id = fmt::format("c{:03d}_r{:02d}", y, r);
-        recording.class_index = y;
-        recording.group_index = y * config.groups / config.classes;
-        recordings[index] = std::move(recording);
-      }
-    });
-  }
-  for (auto& thread : pool) thread.join();
+  parallel_for(static_cast<std::size_t>(total), threads, [&](std::size_t index) {
+    const int y = static_cast<int>(index) / config.recordings_per_class,
+              r = static_cast<int>(index) % config.recordings_per_class;
+    auto rng = simtex_random::generator(config.seed, simtex_random::Purpose::recording_signal, y, r);
+    Recording recording = simulate_recording(config, materials[y], simtex_context(config, y, r), rng);
+    recording.id = fmt::format("c{:03d}_r{:02d}", y, r);
+    recording.class_index = y;
+    recording.group_index = y * config.groups / config.classes;
+    recordings[index] = std::move(recording);
+  });
   return recordings;
 }
 

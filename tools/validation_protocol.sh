@@ -30,6 +30,8 @@ cop_fscil_configs=(
   "cpi-distance-raw|cop-fscil/cpi|cpi_distance=raw"
   "cpi-alpha-0.5|cop-fscil/cpi|cpi_mix_alpha=0.5"
   "cpi-view-half|cop-fscil/cpi|cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
+  "cpi-kept-clean-alpha-0.5|cop-fscil/cpi|cpi_kept=clean cpi_mix_alpha=0.5"
+  "cpi-kept-clean-view-half|cop-fscil/cpi|cpi_kept=clean cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
   "full|cop-fscil|"
   "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
   "full-pic-normalised|cop-fscil|pic_space=normalised"

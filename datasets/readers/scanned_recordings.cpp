@@ -3,12 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <exception>
-#include <thread>
 
 #include "datasets/dataset_error.h"
+#include "datasets/parallel_for.h"
 #include "datasets/segment_cache.h"
 
 namespace fscil {
@@ -36,42 +34,23 @@ std::vector<Recording> read_recordings(const DatasetScan& scan, int threads) {
   if (count == 0) throw DatasetError(fmt::format("{}: no recordings found", scan.root.string()));
   const std::int64_t segment_length = scan.description.segment.length;
   std::vector<Recording> recordings(count);
-  std::vector<std::exception_ptr> failures(count);
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  // Indices are taken in order, so after a failure every earlier recording has been taken and
-  // the first failure in scan order is among those read: stop taking new ones.
-  auto work = [&] {
-    for (std::size_t r = next++; r < count && !failed; r = next++) {
-      const RecordingSource& source = scan.recordings[r];
-      try {
-        SignalData signal = scan.read(source);
-        if (signal.length < segment_length) {
-          throw DatasetError(fmt::format("{}: {} samples, shorter than one segment of {} samples",
-                                         source.files.front().string(), signal.length, segment_length));
-        }
-        Recording& recording = recordings[r];
-        recording.id = source.id;
-        recording.class_index = source.class_index;
-        recording.group_index = source.group_index;
-        recording.channels = signal.channels;
-        recording.length = signal.length;
-        recording.signal = std::move(signal.values);
-        recording.context = source.context;
-        recording.split_hint = source.split;
-      } catch (...) {
-        failures[r] = std::current_exception();
-        failed = true;
-      }
+  parallel_for(count, std::max(1, threads), [&](std::size_t r) {
+    const RecordingSource& source = scan.recordings[r];
+    SignalData signal = scan.read(source);
+    if (signal.length < segment_length) {
+      throw DatasetError(fmt::format("{}: {} samples, shorter than one segment of {} samples",
+                                     source.files.front().string(), signal.length, segment_length));
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < std::max(1, threads); ++t) pool.emplace_back(work);
-  work();
-  for (auto& thread : pool) thread.join();
-  for (const auto& failure : failures) {
-    if (failure) std::rethrow_exception(failure);
-  }
+    Recording& recording = recordings[r];
+    recording.id = source.id;
+    recording.class_index = source.class_index;
+    recording.group_index = source.group_index;
+    recording.channels = signal.channels;
+    recording.length = signal.length;
+    recording.signal = std::move(signal.values);
+    recording.context = source.context;
+    recording.split_hint = source.split;
+  });
   return recordings;
 }
 
