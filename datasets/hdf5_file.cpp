@@ -2,9 +2,9 @@
 
 #include <H5Cpp.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "datasets/dataset_error.h"
+#include "reports/atomic_file.h"
 
 namespace fscil {
 
@@ -60,26 +60,24 @@ void write_array(H5::H5File& file, const std::string& name, const std::vector<hs
 
 void write_hdf5_atomically(const fs::path& path, const Hdf5Contents& contents) {
   H5::Exception::dontPrint();
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
-  const fs::path temporary = path.string() + fmt::format(".tmp-{}", ::getpid());
-  try {
-    H5::H5File file(temporary.string(), H5F_ACC_TRUNC);
-    for (const auto& [name, array] : contents.floats) {
-      std::vector<hsize_t> dims(array->shape.begin(), array->shape.end());
-      write_array(file, name, dims, H5::PredType::NATIVE_FLOAT, array->values.data());
+  replace_file_atomically(path, [&](const fs::path& temporary) {
+    try {
+      H5::H5File file(temporary.string(), H5F_ACC_TRUNC);
+      for (const auto& [name, array] : contents.floats) {
+        std::vector<hsize_t> dims(array->shape.begin(), array->shape.end());
+        write_array(file, name, dims, H5::PredType::NATIVE_FLOAT, array->values.data());
+      }
+      for (const auto& [name, values] : contents.integers) {
+        write_array(file, name, {values.size()}, H5::PredType::NATIVE_INT32, values.data());
+      }
+      for (const auto& [name, text] : contents.texts) {
+        write_array(file, name, {text.size()}, H5::PredType::NATIVE_CHAR, text.data());
+      }
+      file.close();
+    } catch (const H5::Exception& error) {
+      throw DatasetError(fmt::format("{}: cannot write HDF5 ({})", path.string(), error.getDetailMsg()));
     }
-    for (const auto& [name, values] : contents.integers) {
-      write_array(file, name, {values.size()}, H5::PredType::NATIVE_INT32, values.data());
-    }
-    for (const auto& [name, text] : contents.texts) {
-      write_array(file, name, {text.size()}, H5::PredType::NATIVE_CHAR, text.data());
-    }
-    file.close();
-  } catch (const H5::Exception& error) {
-    fs::remove(temporary);
-    throw DatasetError(fmt::format("{}: cannot write HDF5 ({})", path.string(), error.getDetailMsg()));
-  }
-  fs::rename(temporary, path);
+  });
 }
 
 FloatArray read_hdf5_floats(const fs::path& path, const std::string& name, int expected_rank) {

@@ -1,13 +1,13 @@
 #include "protocols/run_checkpoint.h"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <fstream>
 #include <sstream>
 
 #include "datasets/segment_cache.h"
 #include "protocols/protocol_error.h"
+#include "reports/atomic_file.h"
 
 namespace fscil {
 
@@ -107,18 +107,7 @@ std::string serialize(const RunCheckpoint& checkpoint) {
 
 void save_checkpoint(const fs::path& path, const RunCheckpoint& checkpoint) {
   const std::string body = serialize(checkpoint);
-  if (path.has_parent_path()) fs::create_directories(path.parent_path());
-  const fs::path temporary = path.string() + fmt::format(".tmp-{}", ::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << kMagic << '\n' << body.size() << ' ' << stable_hash(body) << '\n' << body;
-    out.flush();
-    if (!out) {
-      fs::remove(temporary);
-      throw ProtocolError(fmt::format("{}: cannot write the checkpoint", path.string()));
-    }
-  }
-  fs::rename(temporary, path);
+  write_file_atomically(path, fmt::format("{}\n{} {}\n", kMagic, body.size(), stable_hash(body)) + body);
 }
 
 RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_identity) {

@@ -4,7 +4,7 @@
 
 #include <sstream>
 
-#include "reports/atomic_file.h"
+#include "reports/text_file.h"
 #include "reports/csv_fields.h"
 #include "reports/report_error.h"
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reports/atomic_file.h"
+#include "reports/text_file.h"
 #include "reports/report_error.h"
 
 namespace fscil {

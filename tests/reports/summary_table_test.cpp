@@ -5,7 +5,6 @@
 #include <cmath>
 #include <fstream>
 
-#include "reports/atomic_file.h"
 #include "reports/report_error.h"
 #include "reports/run_record.h"
 #include "tests/temporary_directory.h"
@@ -152,17 +151,6 @@ TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| method | 0 | 1 | PD | AA | ADR |"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("| pits-sc | **95.00** | 65.00 | 30.00 | **80.00** |"), std::string::npos) << markdown;
-}
-
-TEST(AtomicFile, ReplacesWholeAndLeavesNoTemporary) {
-  TemporaryDirectory directory;
-  const auto path = directory.path() / "sub" / "table.csv";
-  write_file_atomically(path, "first\n");
-  write_file_atomically(path, "second\n");
-  EXPECT_EQ(read_text_file(path), "second\n");
-  int files = 0;
-  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path())) files += entry.is_regular_file();
-  EXPECT_EQ(files, 1);
 }
 
 }  // namespace
