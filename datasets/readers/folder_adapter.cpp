@@ -229,6 +229,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
                     group_column = manifest.column("group"), recording_column = manifest.column("recording");
   const bool has_split = manifest.has_column("split"), has_context = manifest.has_column("context");
   std::map<std::string, int> class_of, group_of, line_of_recording;
+  std::map<fs::path, std::pair<int, std::string>> listing_of_file;  // line and recording that listed it
   for (std::size_t r = 0; r < manifest.rows.size(); ++r) {
     const auto& row = manifest.rows[r];
     const std::string where = fmt::format("{}:{}", manifest_path.string(), manifest.line_of_row[r]);
@@ -249,6 +250,16 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
     if (has_split) source.split = parse_split(row[manifest.column("split")], where);
     if (has_context) source.context = parse_context(row[manifest.column("context")], where);
     source.files = files_of(row[file_column], root, d.channel_names.size(), where);
+    // A file under two recordings (or classes, or splits) would put the same signal on both sides
+    // of a split.
+    for (const auto& file : source.files) {
+      const auto [listed, first] =
+          listing_of_file.emplace(fs::weakly_canonical(file), std::make_pair(manifest.line_of_row[r], source.id));
+      if (!first) {
+        throw DatasetError(fmt::format("{}: file {} already listed on line {} (recording '{}'); a file belongs to one "
+                                       "recording", where, file.string(), listed->second.first, listed->second.second));
+      }
+    }
     scan.recordings.push_back(std::move(source));
   }
   if (scan.recordings.empty()) {

@@ -135,6 +135,19 @@ TEST_F(HaptexManifestErrors, ManifestRowWithAWrongColumnCount) {
   EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:8: 5 fields, expected 4");
 }
 
+TEST_F(HaptexManifestErrors, OneFileUnderTwoRecordingsOrClassesWhateverItsSpelling) {
+  // Under another recording id of the same class (the two could land in train and test).
+  replace_in(manifest(), "recordings/fabric01_2.csv,", "recordings/../recordings/fabric01_1.csv,");
+  EXPECT_MENTIONS(load_error("haptex", root.path()),
+                  "manifest.csv:8: file " + (root.path() / "recordings/../recordings/fabric01_1.csv").string() +
+                      " already listed on line 7 (recording 'fabric01_rec1'); a file belongs to one recording");
+  // Under another class.
+  replace_in(manifest(), "recordings/../recordings/fabric01_1.csv,", "recordings/fabric01_2.csv,");
+  replace_in(manifest(), "recordings/fabric02_0.csv,", "recordings/fabric01_0.csv,");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:10: file " + (root.path() / "recordings/fabric01_0.csv").string() +
+                      " already listed on line 6 (recording 'fabric01_rec0')");
+}
+
 TEST_F(HaptexManifestErrors, DuplicateRecordingIds) {
   replace_in(manifest(), "fabric01_rec2\n", "fabric01_rec1\n");
   EXPECT_MENTIONS(load_error("haptex", root.path()),
