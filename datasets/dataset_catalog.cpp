@@ -106,7 +106,7 @@ PreparedDataset prepare_with_cache(const DatasetDescription& description, const 
   if (!request.cache_dir.empty()) {
     std::string problem;
     cached = cache.load(description, &problem);
-    if (!problem.empty()) fmt::print(log, "warning: ignoring unreadable cache file: {}\n", problem);
+    if (!problem.empty()) fmt::print(log, "warning: {}; the cache file is rebuilt\n", problem);
   }
   if (cached) {
     dataset.segments = std::move(*cached);

@@ -4,23 +4,98 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cstring>
+
 #include "datasets/dataset_error.h"
 #include "datasets/hdf5_file.h"
 
 namespace fscil {
 
 namespace {
-constexpr int kCacheFormat = 2;  // 2: segments only, no features
+constexpr int kCacheFormat = 3;  // 2: segments only, no features; 3: with a digest of the contents
 
 std::vector<std::int32_t> to_int32(const std::vector<int>& values) { return {values.begin(), values.end()}; }
 std::vector<int> to_int(const std::vector<std::int32_t>& values) { return {values.begin(), values.end()}; }
 
 int split_code(SplitHint hint) { return static_cast<int>(hint); }
-SplitHint split_from_code(int code) {
+SplitHint split_from_code(int code, const std::filesystem::path& path) {
   if (code < 0 || code > static_cast<int>(SplitHint::validation)) {
-    throw DatasetError(fmt::format("recording split code {}: expected 0 to 3", code));
+    throw DatasetError(fmt::format("{}: recording split code {}, expected 0 to 3", path.string(), code));
   }
   return static_cast<SplitHint>(code);
+}
+
+// FNV-1a over 8-byte words (the tail byte by byte): a 120 MB cache digests in a few tens of ms.
+class ContentDigest {
+ public:
+  void add(const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (; bytes >= 8; p += 8, bytes -= 8) {
+      std::uint64_t word;
+      std::memcpy(&word, p, 8);
+      mix(word);
+    }
+    for (; bytes > 0; ++p, --bytes) mix(*p);
+    mix(0xff);  // so that moving bytes between two fields changes the digest
+  }
+  template <typename T>
+  void add(const std::vector<T>& values) { add(values.data(), values.size() * sizeof(T)); }
+  std::string hex() const { return fmt::format("{:016x}", hash_); }
+
+ private:
+  void mix(std::uint64_t value) {
+    hash_ ^= value;
+    hash_ *= 0x100000001b3ULL;
+  }
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+std::string digest_of(const SegmentSet& s) {
+  ContentDigest digest;
+  for (const std::int64_t extent : s.signals.shape) digest.add(&extent, sizeof(extent));
+  digest.add(s.signals.values);
+  digest.add(s.class_index);
+  digest.add(s.group_index);
+  digest.add(s.recording_index);
+  for (const auto& id : s.recording_ids) digest.add(id.data(), id.size());
+  for (const SplitHint hint : s.recording_split) digest.add(&hint, sizeof(hint));
+  for (const auto& name : s.context_names) digest.add(name.data(), name.size());
+  const std::vector<float> stored_context(s.context_values.begin(), s.context_values.end());  // as the file holds them
+  digest.add(stored_context);
+  return digest.hex();
+}
+
+void require_in_range(const std::vector<int>& values, std::size_t end, const char* what,
+                      const std::filesystem::path& path) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (values[i] < 0 || static_cast<std::size_t>(values[i]) >= end) {
+      throw DatasetError(fmt::format("{}: segment {} has {} {}, expected 0 to {}", path.string(), i, what, values[i],
+                                     static_cast<std::int64_t>(end) - 1));
+    }
+  }
+}
+
+// Shapes and index ranges against the dataset's description and within the file, so that a
+// file of another shape never reaches the protocol.
+void check_against(const SegmentSet& s, const DatasetDescription& d, const std::filesystem::path& path) {
+  const auto& shape = s.signals.shape;
+  const auto channels = static_cast<std::int64_t>(d.channel_names.size());
+  if (shape[0] != s.count() || static_cast<std::int64_t>(s.group_index.size()) != s.count() ||
+      static_cast<std::int64_t>(s.recording_index.size()) != s.count()) {
+    throw DatasetError(fmt::format("{}: segment counts disagree between datasets", path.string()));
+  }
+  if (shape[1] != channels || shape[2] != d.segment.length) {
+    throw DatasetError(fmt::format("{}: segments of {} channels x {} samples, expected {} x {}", path.string(), shape[1],
+                                   shape[2], channels, d.segment.length));
+  }
+  require_in_range(s.class_index, d.class_names.size(), "class", path);
+  require_in_range(s.group_index, std::max<std::size_t>(1, d.group_names.size()), "group", path);
+  require_in_range(s.recording_index, s.recording_ids.size(), "recording", path);
+  if (s.recording_split.size() != s.recording_ids.size() ||
+      s.context_values.size() != s.recording_ids.size() * s.context_names.size()) {
+    throw DatasetError(fmt::format("{}: per-recording lists disagree in length", path.string()));
+  }
 }
 }  // namespace
 
@@ -56,16 +131,22 @@ std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& descripti
     s.group_index = to_int(read_hdf5_integers(path, "group_index"));
     s.recording_index = to_int(read_hdf5_integers(path, "recording_index"));
     s.recording_ids = meta.at("recording_ids").get<std::vector<std::string>>();
-    for (int code : meta.at("recording_split").get<std::vector<int>>()) s.recording_split.push_back(split_from_code(code));
+    for (int code : meta.at("recording_split").get<std::vector<int>>()) {
+      s.recording_split.push_back(split_from_code(code, path));
+    }
     s.context_names = meta.at("context_names").get<std::vector<std::string>>();
     const FloatArray context = read_hdf5_floats(path, "context_values", 1);
     s.context_values.assign(context.values.begin(), context.values.end());
-    if (s.signals.shape[0] != s.count()) {
-      throw DatasetError(fmt::format("{}: segment counts disagree between datasets", path.string()));
+    check_against(s, description, path);
+    if (meta.at("digest").get<std::string>() != digest_of(s)) {
+      throw DatasetError(fmt::format("{}: contents differ from their digest (the file was altered)", path.string()));
     }
     return s;
-  } catch (const std::exception& error) {
+  } catch (const DatasetError& error) {  // names the file already
     if (problem != nullptr) *problem = error.what();
+    return std::nullopt;
+  } catch (const std::exception& error) {  // its metadata is not what this format writes
+    if (problem != nullptr) *problem = fmt::format("{}: unreadable metadata ({})", path.string(), error.what());
     return std::nullopt;
   }
 }
@@ -84,7 +165,8 @@ void SegmentCache::store(const DatasetDescription& description, const SegmentSet
   nlohmann::json meta = {{"key", key_for(description)},
                          {"recording_ids", s.recording_ids},
                          {"recording_split", splits},
-                         {"context_names", s.context_names}};
+                         {"context_names", s.context_names},
+                         {"digest", digest_of(s)}};
   contents.texts["meta"] = meta.dump();
   write_hdf5_atomically(path_for(description), contents);
 }
