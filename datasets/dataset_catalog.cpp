@@ -125,12 +125,9 @@ PreparedDataset prepare_with_cache(const DatasetDescription& description, const 
 PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequest& request,
                                 const ParameterSet& params, std::ostream& log) {
   SimtexConfig config = entry.config();
-  config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1));
-  config.context_strength = params.real("context_strength", config.context_strength);
+  config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1, ValidRange::at_least(0)));
+  config.context_strength = params.real("context_strength", config.context_strength, ValidRange::at_least(0));
   config.context_shift = parse_context_shift(params.choice("context_shift", "none", {"none", "device", "speed"}));
-  if (config.context_strength < 0) {
-    throw DatasetError(fmt::format("context_strength={}: expected a value >= 0", config.context_strength));
-  }
 
   DatasetDescription description;
   description.name = entry.name;

@@ -79,6 +79,18 @@ __attribute__((target_clones("avx2", "default"))) bool all_finite(const float* v
   return infinite == 0;
 }
 
+// Checked before the filterbank is built from them.
+const LogMelSettings& checked(const LogMelSettings& settings) {
+  const bool valid_rate = std::isfinite(settings.sample_rate) && settings.sample_rate > 0;
+  const bool valid_band = std::isfinite(settings.f_min) && std::isfinite(settings.f_max) && settings.f_min >= 0 &&
+                          settings.f_max >= 0;
+  if (settings.n_fft < 2 || settings.hop < 1 || settings.n_mels < 1 || !valid_rate || !valid_band) {
+    throw DatasetError(fmt::format("log-Mel settings {}: n_fft >= 2, hop >= 1, n_mels >= 1, a positive sample rate "
+                                   "and finite band edges >= 0 expected", settings.describe()));
+  }
+  return settings;
+}
+
 }  // namespace
 
 struct LogMelExtractor::Plan {
@@ -86,11 +98,7 @@ struct LogMelExtractor::Plan {
 };
 
 LogMelExtractor::LogMelExtractor(const LogMelSettings& settings)
-    : settings_(settings), filterbank_(MelFilterbank::build(settings)), plan_(std::make_unique<Plan>()) {
-  if (settings.n_fft < 2 || settings.hop < 1 || settings.n_mels < 1 || settings.sample_rate <= 0) {
-    throw DatasetError(fmt::format("log-Mel settings {}: n_fft >= 2, hop >= 1, n_mels >= 1 and a "
-                                   "positive sample rate expected", settings.describe()));
-  }
+    : settings_(checked(settings)), filterbank_(MelFilterbank::build(settings)), plan_(std::make_unique<Plan>()) {
   window_.resize(settings.n_fft);
   for (std::int64_t n = 0; n < settings.n_fft; ++n) {
     window_[n] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * M_PI * n / settings.n_fft));

@@ -40,7 +40,7 @@ void ParameterSet::remember(const std::string& key, const std::string& value) co
   used_[key] = value;
 }
 
-double ParameterSet::real(const std::string& key, double fallback) const {
+double ParameterSet::real(const std::string& key, double fallback, const ValidRange& valid) const {
   const std::string* value = lookup(key);
   if (value == nullptr) {
     remember(key, fmt::format("{}", fallback));
@@ -52,11 +52,14 @@ double ParameterSet::real(const std::string& key, double fallback) const {
   if (value->empty() || *end != '\0' || errno != 0 || !std::isfinite(parsed)) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, *value));
   }
+  if (!valid.contains(parsed)) {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, *value, valid.describe()));
+  }
   remember(key, *value);
   return parsed;
 }
 
-std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback) const {
+std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const {
   const std::string* value = lookup(key);
   if (value == nullptr) {
     remember(key, std::to_string(fallback));
@@ -67,6 +70,9 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
   const long long parsed = std::strtoll(value->c_str(), &end, 10);
   if (value->empty() || *end != '\0' || errno != 0) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, *value));
+  }
+  if (!valid.contains(static_cast<double>(parsed))) {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, *value, valid.describe()));
   }
   remember(key, *value);
   return parsed;

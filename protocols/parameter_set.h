@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "protocols/valid_range.h"
+
 namespace fscil {
 
 // Named hyper-parameters and knobs as text, layered (profile, then --set) and read with a default.
@@ -20,8 +22,9 @@ class ParameterSet {
   void set_assignment(const std::string& assignment);
   bool contains(const std::string& key) const;
 
-  double real(const std::string& key, double fallback) const;
-  std::int64_t integer(const std::string& key, std::int64_t fallback) const;
+  // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key.
+  double real(const std::string& key, double fallback, const ValidRange& valid) const;
+  std::int64_t integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const;
   bool flag(const std::string& key, bool fallback) const;
   std::string text(const std::string& key, const std::string& fallback) const;
   // text() restricted to a list of allowed values.

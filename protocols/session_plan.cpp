@@ -18,15 +18,10 @@ int SessionPlan::session_of_class(int protocol_class) const {
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
                               const ParameterSet& params, std::uint64_t seed) {
   SessionPlan plan;
-  plan.base_classes = static_cast<int>(params.integer("base_classes", defaults.base_classes));
-  plan.way = static_cast<int>(params.integer("way", defaults.way));
-  plan.shot = static_cast<int>(params.integer("shot", defaults.shot));
-  plan.sessions = static_cast<int>(params.integer("sessions", defaults.sessions));
-  if (plan.base_classes < 2 || plan.way < 1 || plan.shot < 1 || plan.sessions < 1) {
-    throw ProtocolError(fmt::format("session plan base_classes={} way={} shot={} sessions={}: expected at least "
-                                    "2 base classes and positive way, shot and sessions",
-                                    plan.base_classes, plan.way, plan.shot, plan.sessions));
-  }
+  plan.base_classes = static_cast<int>(params.integer("base_classes", defaults.base_classes, ValidRange::at_least(2)));
+  plan.way = static_cast<int>(params.integer("way", defaults.way, ValidRange::at_least(1)));
+  plan.shot = static_cast<int>(params.integer("shot", defaults.shot, ValidRange::at_least(1)));
+  plan.sessions = static_cast<int>(params.integer("sessions", defaults.sessions, ValidRange::at_least(1)));
   if (plan.total_classes() > dataset_classes) {
     throw ProtocolError(fmt::format("session plan needs {} classes ({} base + {} sessions x {}-way) but the "
                                     "dataset has {}", plan.total_classes(), plan.base_classes, plan.sessions - 1,

@@ -2,6 +2,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <iostream>
 
 #include "datasets/dataset_catalog.h"
@@ -11,6 +14,7 @@
 #include "reports/atomic_file.h"
 #include "reports/context_analysis.h"
 #include "reports/run_record.h"
+#include "tools/cli_range.h"
 #include "tools/logmel_command.h"
 #include "tools/reference_command.h"
 #include "tools/report_writer.h"
@@ -58,7 +62,9 @@ int main(int argc, char** argv) {
   app.add_option("--dataset", run.dataset, "dataset name (see: fscil-bench list)");
   app.add_option("--profile", run.profile, "smoke | fast | paper")->capture_default_str();
   app.add_option("--seeds", run.seeds, "seeds, e.g. 1,2,3 or 1-5")->capture_default_str();
-  app.add_option("--threads", run.threads, "compute threads (0 = all cores)")->capture_default_str();
+  app.add_option("--threads", run.threads, "compute threads (0 = all cores)")
+      ->check(fscil::within(fscil::ValidRange::at_least(0)))
+      ->capture_default_str();
   app.add_option("--out", run.out, "output directory for result files and tables")->capture_default_str();
   std::string resume_dir;
   app.add_option("--resume", resume_dir,
@@ -85,15 +91,24 @@ int main(int argc, char** argv) {
   auto* logmel_command = app.add_subcommand("logmel", "Compute log-Mel spectrograms of an HDF5 signal");
   logmel_command->add_option("--input", logmel.input, "HDF5 file with dataset /signal (float32, C x L)")->required();
   logmel_command->add_option("--output", logmel.output, "HDF5 file to write /logmel (float32, C x M x T)")->required();
-  logmel_command->add_option("--sample-rate", logmel.settings.sample_rate, "sample rate in Hz")->required();
-  logmel_command->add_option("--n-fft", logmel.settings.n_fft, "FFT size")->required();
-  logmel_command->add_option("--hop", logmel.settings.hop, "hop in samples")->required();
-  logmel_command->add_option("--n-mels", logmel.settings.n_mels, "Mel bins")->required();
+  logmel_command->add_option("--sample-rate", logmel.settings.sample_rate, "sample rate in Hz")
+      ->check(fscil::within(fscil::ValidRange::above(0)))
+      ->required();
+  logmel_command->add_option("--n-fft", logmel.settings.n_fft, "FFT size")
+      ->check(fscil::within(fscil::ValidRange::at_least(2)))
+      ->required();
+  logmel_command->add_option("--hop", logmel.settings.hop, "hop in samples")
+      ->check(fscil::within(fscil::ValidRange::at_least(1)))
+      ->required();
+  logmel_command->add_option("--n-mels", logmel.settings.n_mels, "Mel bins")
+      ->check(fscil::within(fscil::ValidRange::at_least(1)))
+      ->required();
   logmel.settings.center = false;
   logmel_command->add_flag("--center", logmel.settings.center, "reflect-pad n_fft/2 on both sides");
   logmel_command->add_option("--mel-scale", logmel.mel_scale, "htk | slaney")->capture_default_str();
   logmel_command->add_option("--mel-norm", logmel.mel_norm, "none | slaney")->capture_default_str();
-  logmel_command->add_option("--threads", logmel.threads, "threads (0 = all cores)");
+  logmel_command->add_option("--threads", logmel.threads, "threads (0 = all cores)")
+      ->check(fscil::within(fscil::ValidRange::at_least(0)));
 
   std::string results_dir, report_out;
   auto* report = app.add_subcommand(
@@ -123,9 +138,17 @@ int main(int argc, char** argv) {
   reference->add_option("--results", reference_results, "directory holding result JSON files")->required();
   reference->add_option("--out", reference_out, "reference CSV to write")->required();
   reference->add_option("--tolerance", reference_tolerance, "two-sided tolerance of every value, percentage points")
+      ->check(fscil::within(fscil::ValidRange::at_least(0)))
       ->capture_default_str();
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == 0) return app.exit(error);  // --help, --help-all
+    fmt::print(stderr, "fscil-bench: error: {} (try: fscil-bench --help)\n", error.what());
+    return 2;
+  }
+  int status = 0;
   try {
     if (list->parsed()) {
       print_catalogue();
@@ -136,7 +159,7 @@ int main(int argc, char** argv) {
     } else if (analyze->parsed()) {
       analyze_contexts(analyze_results, analyze_out);
     } else if (check->parsed()) {
-      return fscil::check_reference(check_results, check_reference_file);
+      status = fscil::check_reference(check_results, check_reference_file);
     } else if (reference->parsed()) {
       fscil::write_reference(reference_results, reference_out, reference_tolerance);
     } else {
@@ -155,6 +178,12 @@ int main(int argc, char** argv) {
       }
       fscil::run_benchmark(run);
     }
+    // Tables printed to a full disk or a closed pipe are a failure, not a success.
+    errno = 0;
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      throw std::runtime_error(
+          fmt::format("standard output: cannot write ({})", errno != 0 ? std::strerror(errno) : "write error"));
+    }
   } catch (const std::exception& error) {
     // One line naming what was wrong; earlier result files stay as they were written.
     std::string message = error.what();
@@ -162,5 +191,5 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "fscil-bench: error: {}\n", message);
     return 1;
   }
-  return 0;
+  return status;
 }

@@ -11,6 +11,7 @@
 
 #include "datasets/dataset_error.h"
 #include "datasets/readers/text_table.h"
+#include "protocols/valid_range.h"
 
 namespace fscil {
 
@@ -45,10 +46,21 @@ class DatasetJson {
 
   const json& root() const { return root_; }
 
-  double number(const json& object, const std::string& field, std::optional<double> fallback = {}) const {
+  double number(const json& object, const std::string& field, const ValidRange& valid,
+                std::optional<double> fallback = {}) const {
     if (!object.contains(field)) return required(field, fallback, "a number");
-    if (!object[field].is_number()) fail(field, "a number");
+    if (!object[field].is_number() || !valid.contains(object[field].get<double>())) {
+      fail(field, "a number " + valid.describe());
+    }
     return object[field].get<double>();
+  }
+  std::int64_t integer(const json& object, const std::string& field, const ValidRange& valid,
+                       std::int64_t fallback) const {
+    if (!object.contains(field)) return fallback;
+    if (!object[field].is_number_integer() || !valid.contains(object[field].get<double>())) {
+      fail(field, "an integer " + valid.describe());
+    }
+    return object[field].get<std::int64_t>();
   }
   std::string text(const json& object, const std::string& field, std::optional<std::string> fallback = {}) const {
     if (!object.contains(field)) return required(field, fallback, "a string");
@@ -67,7 +79,10 @@ class DatasetJson {
     if (!list.is_array() || list.empty()) fail(field, "a non-empty list of names");
     std::vector<std::string> result;
     for (const auto& item : list) {
-      if (!item.is_string()) fail(field, "a list of names");
+      if (!item.is_string() || item.get<std::string>().empty()) fail(field, "a list of names");
+      if (std::find(result.begin(), result.end(), item.get<std::string>()) != result.end()) {
+        fail(field, fmt::format("a list of distinct names ('{}' is listed twice)", item.get<std::string>()));
+      }
       result.push_back(item.get<std::string>());
     }
     return result;
@@ -115,15 +130,12 @@ LogMelSettings front_end_of(const DatasetJson& config, double sample_rate, const
     settings.center = false;
   }
   settings.sample_rate = sample_rate;
-  settings.n_fft = static_cast<std::int64_t>(config.number(spec, "n_fft", static_cast<double>(settings.n_fft)));
-  settings.hop = static_cast<std::int64_t>(config.number(spec, "hop", static_cast<double>(settings.hop)));
-  settings.n_mels = static_cast<std::int64_t>(config.number(spec, "n_mels", static_cast<double>(settings.n_mels)));
-  settings.f_min = config.number(spec, "f_min", settings.f_min);
-  settings.f_max = config.number(spec, "f_max", settings.f_max);
+  settings.n_fft = config.integer(spec, "n_fft", ValidRange::at_least(2), settings.n_fft);
+  settings.hop = config.integer(spec, "hop", ValidRange::at_least(1), settings.hop);
+  settings.n_mels = config.integer(spec, "n_mels", ValidRange::at_least(1), settings.n_mels);
+  settings.f_min = config.number(spec, "f_min", ValidRange::at_least(0), settings.f_min);
+  settings.f_max = config.number(spec, "f_max", ValidRange::at_least(0), settings.f_max);
   settings.center = config.boolean(spec, "center", settings.center);
-  if (settings.n_fft < 2 || settings.hop < 1 || settings.n_mels < 1) {
-    config.fail("front_end", "n_fft >= 2, hop >= 1 and n_mels >= 1");
-  }
   return settings;
 }
 
@@ -135,10 +147,13 @@ SessionDefaults sessions_of(const DatasetJson& config, int classes, const Sessio
     const int incremental = std::max(1, classes * 2 / 5 / 5);
     defaults = {std::max(1, classes - 5 * incremental), 5, 5, 1 + incremental};
   }
-  defaults.base_classes = static_cast<int>(config.number(spec, "base_classes", defaults.base_classes));
-  defaults.way = static_cast<int>(config.number(spec, "way", defaults.way));
-  defaults.shot = static_cast<int>(config.number(spec, "shot", defaults.shot));
-  defaults.sessions = static_cast<int>(config.number(spec, "sessions", defaults.sessions));
+  const auto count = [&](const char* field, int fallback, const ValidRange& valid) {
+    return static_cast<int>(config.integer(spec, field, valid, fallback));
+  };
+  defaults.base_classes = count("base_classes", defaults.base_classes, ValidRange::between(1, classes));
+  defaults.way = count("way", defaults.way, ValidRange::between(1, classes));
+  defaults.shot = count("shot", defaults.shot, ValidRange::at_least(1));
+  defaults.sessions = count("sessions", defaults.sessions, ValidRange::between(1, classes));
   return defaults;
 }
 
@@ -205,22 +220,23 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
                             std::string::npos) {
     config.fail("name", "letters, digits, '_', '.' or '-' (it names cache and result files)");
   }
-  d.sample_rate = config.number(top, "sample_rate", expected ? std::optional(expected->sample_rate) : std::nullopt);
+  d.sample_rate = config.number(top, "sample_rate", ValidRange::above(0),
+                                expected ? std::optional(expected->sample_rate) : std::nullopt);
   d.channel_names = config.names(top, "channels", expected ? std::optional(expected->channels) : std::nullopt);
   const double segment_seconds =
-      config.number(top, "segment_seconds", expected ? std::optional(expected->segment_seconds) : std::nullopt);
-  const double hop_seconds = config.number(top, "hop_seconds", segment_seconds);
+      config.number(top, "segment_seconds", ValidRange::above(0),
+                    expected ? std::optional(expected->segment_seconds) : std::nullopt);
+  const double hop_seconds = config.number(top, "hop_seconds", ValidRange::above(0), segment_seconds);
   if (expected != nullptr) {
     require_value(config_path, "sample_rate", d.sample_rate, expected->sample_rate, expected->name);
     require_value(config_path, "channels", fmt::format("{}", fmt::join(d.channel_names, ",")),
                   fmt::format("{}", fmt::join(expected->channels, ",")), expected->name);
     require_value(config_path, "segment_seconds", segment_seconds, expected->segment_seconds, expected->name);
   }
-  if (d.sample_rate <= 0) config.fail("sample_rate", "a positive number of Hz");
   const auto segment = static_cast<std::int64_t>(std::lround(segment_seconds * d.sample_rate));
   const auto hop = static_cast<std::int64_t>(std::lround(hop_seconds * d.sample_rate));
   if (segment < 1 || hop < 1) config.fail("segment_seconds", "segment and hop of at least one sample");
-  d.segment = {segment, hop, static_cast<std::int64_t>(config.number(top, "max_segments_per_recording", 0))};
+  d.segment = {segment, hop, config.integer(top, "max_segments_per_recording", ValidRange::at_least(0), 0)};
   d.front_end = front_end_of(config, d.sample_rate, expected ? expected->preset : "");
 
   const fs::path manifest_path = root / "manifest.csv";

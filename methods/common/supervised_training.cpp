@@ -1,7 +1,5 @@
 #include "methods/common/supervised_training.h"
 
-#include <fmt/format.h>
-
 #include <cmath>
 #include <numeric>
 
@@ -11,18 +9,13 @@ namespace fscil {
 
 SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params) {
   SupervisedSchedule schedule;
-  schedule.epochs = static_cast<int>(params.integer("pretrain_epochs", schedule.epochs));
-  schedule.learning_rate = params.real("pretrain_lr", schedule.learning_rate);
-  schedule.batch_size = static_cast<int>(params.integer("batch_size", schedule.batch_size));
-  schedule.momentum = params.real("momentum", schedule.momentum);
-  schedule.weight_decay = params.real("weight_decay", schedule.weight_decay);
-  schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step));
-  schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma);
-  if (schedule.epochs < 0 || schedule.batch_size < 2 || schedule.lr_step < 1 || schedule.learning_rate <= 0) {
-    throw MethodError(fmt::format("training schedule pretrain_epochs={} batch_size={} lr_step={} pretrain_lr={}: "
-                                  "expected epochs >= 0, batch_size >= 2, lr_step >= 1, pretrain_lr > 0",
-                                  schedule.epochs, schedule.batch_size, schedule.lr_step, schedule.learning_rate));
-  }
+  schedule.epochs = static_cast<int>(params.integer("pretrain_epochs", schedule.epochs, ValidRange::at_least(0)));
+  schedule.learning_rate = params.real("pretrain_lr", schedule.learning_rate, ValidRange::above(0));
+  schedule.batch_size = static_cast<int>(params.integer("batch_size", schedule.batch_size, ValidRange::at_least(2)));
+  schedule.momentum = params.real("momentum", schedule.momentum, ValidRange::from_up_to(0, 1));
+  schedule.weight_decay = params.real("weight_decay", schedule.weight_decay, ValidRange::at_least(0));
+  schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step, ValidRange::at_least(1)));
+  schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma, ValidRange::above_up_to(0, 1));
   return schedule;
 }
 

@@ -31,62 +31,38 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   cpi.space = params.choice("cpi_space", "standardised", {"standardised", "raw"}) == "raw" ? ProbeSpace::raw
                                                                                         : ProbeSpace::standardised;
   ViewRanges& view = cpi.view;
-  view.global_bias = params.real("cpi_global_bias", view.global_bias);
-  view.channel_bias = params.real("cpi_channel_bias", view.channel_bias);
-  view.tilt = params.real("cpi_tilt", view.tilt);
-  view.noise = params.real("cpi_noise", view.noise);
-  view.max_shift_fraction = params.real("cpi_max_shift", view.max_shift_fraction);
+  view.global_bias = params.real("cpi_global_bias", view.global_bias, ValidRange::at_least(0));
+  view.channel_bias = params.real("cpi_channel_bias", view.channel_bias, ValidRange::at_least(0));
+  view.tilt = params.real("cpi_tilt", view.tilt, ValidRange::at_least(0));
+  view.noise = params.real("cpi_noise", view.noise, ValidRange::at_least(0));
+  view.max_shift_fraction = params.real("cpi_max_shift", view.max_shift_fraction, ValidRange::from_up_to(0, 1));
   cpi.reference = params.choice("cpi_reference", "farthest", {"farthest", "random"}) == "random"
                       ? ReferenceChoice::random
                       : ReferenceChoice::farthest;
   cpi.standardised_distance = params.choice("cpi_distance", "standardised", {"standardised", "raw"}) == "standardised";
   cpi.ranked_references = params.choice("cpi_references", "ranked", {"ranked", "same"}) == "ranked";
-  cpi.mix_alpha = params.real("cpi_mix_alpha", cpi.mix_alpha);
-  cpi.bank_capacity = params.integer("cpi_bank", cpi.bank_capacity);
-  s.support_coverage = params.real("cpi_support_coverage", s.support_coverage);
-  s.query_coverage = params.real("cpi_query_coverage", s.query_coverage);
+  cpi.mix_alpha = params.real("cpi_mix_alpha", cpi.mix_alpha, ValidRange::above(0));
+  cpi.bank_capacity = params.integer("cpi_bank", cpi.bank_capacity, ValidRange::at_least(1));
+  s.support_coverage = params.real("cpi_support_coverage", s.support_coverage, ValidRange::between(0, 1));
+  s.query_coverage = params.real("cpi_query_coverage", s.query_coverage, ValidRange::between(0, 1));
   s.kept = kept_coverage_of(params.choice("cpi_kept", "query", {"query", "clean", "split"}));
   s.episode_statistics =
       episode_statistics_of(params.choice("cpi_bn_statistics", "update", {"update", "guarded", "reestimate"}));
-  s.pretrain_coverage = params.real("cpi_pretrain_coverage", s.pretrain_coverage);
+  s.pretrain_coverage = params.real("cpi_pretrain_coverage", s.pretrain_coverage, ValidRange::between(0, 1));
 
-  s.reflections = params.integer("pcqa_reflections", s.reflections);
-  s.invariant_fraction = params.real("pcqa_invariant_fraction", s.invariant_fraction);
-  s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim);
-  s.pic_weight = params.real("pic_weight", s.pic_weight);
-  s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes));
+  s.reflections = params.integer("pcqa_reflections", s.reflections, ValidRange::at_least(1));
+  s.invariant_fraction = params.real("pcqa_invariant_fraction", s.invariant_fraction, ValidRange::above_up_to(0, 1));
+  s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim, ValidRange::at_least(0));
+  s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
+  s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
   s.pic_normalised = params.choice("pic_space", "raw", {"normalised", "raw"}) == "normalised";
 
-  s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes));
-  s.pspc_beta = params.real("pspc_beta", s.pspc_beta);
+  s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
+  s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
   s.pspc_q_from_original = params.choice("pspc_q", "original", {"original", "own"}) == "original";
   s.pspc_instability_normalised = params.choice("pspc_instability", "raw", {"normalised", "raw"}) == "normalised";
   s.pspc_mean_of_views = params.choice("pspc_mean", "views", {"views", "original"}) == "views";
 
-  const bool ranges_ok = view.global_bias >= 0 && view.channel_bias >= 0 && view.tilt >= 0 && view.noise >= 0 &&
-                         view.max_shift_fraction >= 0 && view.max_shift_fraction < 1;
-  if (!ranges_ok || cpi.mix_alpha <= 0 || cpi.bank_capacity < 1) {
-    throw MethodError(fmt::format("cpi_global_bias={} cpi_channel_bias={} cpi_tilt={} cpi_noise={} cpi_max_shift={} "
-                                  "cpi_mix_alpha={} cpi_bank={}: expected ranges >= 0, cpi_max_shift below 1, a "
-                                  "positive alpha and a bank of at least 1",
-                                  view.global_bias, view.channel_bias, view.tilt, view.noise, view.max_shift_fraction,
-                                  cpi.mix_alpha, cpi.bank_capacity));
-  }
-  const auto is_share = [](double x) { return x >= 0 && x <= 1; };
-  if (!is_share(s.support_coverage) || !is_share(s.query_coverage) || !is_share(s.pretrain_coverage)) {
-    throw MethodError(fmt::format("cpi_support_coverage={} cpi_query_coverage={} cpi_pretrain_coverage={}: expected "
-                                  "shares in [0, 1]",
-                                  s.support_coverage, s.query_coverage, s.pretrain_coverage));
-  }
-  if (s.reflections < 1 || s.invariant_fraction <= 0 || s.invariant_fraction > 1 || s.sensitive_dim < 0 ||
-      s.pic_weight < 0 || s.pic_probes < 0 || s.pspc_probes < 0 || s.pspc_beta < 0) {
-    throw MethodError(fmt::format("pcqa_reflections={} pcqa_invariant_fraction={} pcqa_sensitive_dim={} pic_weight={} "
-                                  "pic_probes={} pspc_probes={} pspc_beta={}: expected at least 1 reflection, a "
-                                  "fraction in (0, 1] and the rest >= 0 (pcqa_sensitive_dim 0 = from the fraction, "
-                                  "pspc_probes 0 = by input size)",
-                                  s.reflections, s.invariant_fraction, s.sensitive_dim, s.pic_weight, s.pic_probes,
-                                  s.pspc_probes, s.pspc_beta));
-  }
   return s;
 }
 

@@ -9,7 +9,7 @@
 namespace fscil {
 
 PrototypeMethod::PrototypeMethod(const ParameterSet& params)
-    : schedule_(SupervisedSchedule::from(params)), temperature_(params.real("temperature", 16.0)) {}
+    : schedule_(SupervisedSchedule::from(params)), temperature_(params.real("temperature", 16.0, ValidRange::above(0))) {}
 
 void PrototypeMethod::build_network(const RunContext& context) {
   encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});

@@ -115,6 +115,25 @@ TEST(HaptexErrors, BadJsonAndMissingFieldsAreNamed) {
   EXPECT_MENTIONS(load_error("folder", root.path()), "dataset.json: field 'sample_rate': expected a number");
 }
 
+TEST(HaptexErrors, NonsenseValuesInDatasetJsonAreNamed) {
+  TemporaryDirectory root;
+  const std::string head = R"({"name": "lab", "segment_seconds": 0.5, )";
+  write_text(root.path() / "dataset.json", head + R"("sample_rate": NaN, "channels": ["a"]})");
+  EXPECT_MENTIONS(load_error("folder", root.path()), "dataset.json: not valid JSON");
+  write_text(root.path() / "dataset.json", head + R"("sample_rate": -1000, "channels": ["a"]})");
+  EXPECT_MENTIONS(load_error("folder", root.path()), "dataset.json: field 'sample_rate': expected a number > 0");
+  write_text(root.path() / "dataset.json", head + R"("sample_rate": 1000, "channels": ["x", "y", "x"]})");
+  EXPECT_MENTIONS(load_error("folder", root.path()),
+                  "dataset.json: field 'channels': expected a list of distinct names ('x' is listed twice)");
+  write_text(root.path() / "dataset.json",
+             head + R"("sample_rate": 1000, "channels": ["a"], "max_segments_per_recording": -3})");
+  EXPECT_MENTIONS(load_error("folder", root.path()),
+                  "dataset.json: field 'max_segments_per_recording': expected an integer >= 0");
+  write_text(root.path() / "dataset.json",
+             head + R"("sample_rate": 1000, "channels": ["a"], "front_end": {"n_mels": 6.5}})");
+  EXPECT_MENTIONS(load_error("folder", root.path()), "dataset.json: field 'n_mels': expected an integer >= 1");
+}
+
 class HaptexManifestErrors : public ::testing::Test {
  protected:
   HaptexManifestErrors() { write_haptex_fixture(root.path(), {}); }

@@ -8,6 +8,7 @@
 #include "methods/method_registry.h"
 #include "methods/orco/orco_method.h"
 #include "protocols/parameter_set.h"
+#include "protocols/protocol_error.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {
@@ -157,10 +158,10 @@ TEST(Orco, IsRegisteredAndPartOfAll) {
 TEST(Orco, RefusesBadSettingsBeforeTraining) {
   ParameterSet one_view = tiny_params(1);
   one_view.set("orco_views", "1");
-  EXPECT_THROW(create_method("orco", one_view), MethodError);
+  EXPECT_THROW(create_method("orco", one_view), ProtocolError);
   ParameterSet negative = tiny_params(1);
   negative.set("orco_session_lr", "-0.1");
-  EXPECT_THROW(create_method("orco", negative), MethodError);
+  EXPECT_THROW(create_method("orco", negative), ProtocolError);
 }
 
 }  // namespace

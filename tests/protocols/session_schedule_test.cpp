@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <map>
 #include <set>
 
@@ -266,15 +268,42 @@ TEST(ParameterSet, RemembersEveryReadAndRejectsMalformedValues) {
   ParameterSet params;
   params.set_assignment("pretrain_epochs=7");
   params.set_assignment("typo_key=1");
-  EXPECT_EQ(params.integer("pretrain_epochs", 100), 7);
-  EXPECT_DOUBLE_EQ(params.real("temperature", 16.0), 16.0);
+  EXPECT_EQ(params.integer("pretrain_epochs", 100, ValidRange::at_least(0)), 7);
+  EXPECT_DOUBLE_EQ(params.real("temperature", 16.0, ValidRange::above(0)), 16.0);
   EXPECT_EQ(params.used().at("temperature"), "16");
   EXPECT_EQ(params.unread_keys(), (std::vector<std::string>{"typo_key"}));
   params.set("lr", "fast");
-  EXPECT_THROW(params.real("lr", 0.1), ProtocolError);
+  EXPECT_THROW(params.real("lr", 0.1, ValidRange::any()), ProtocolError);
   params.set("order", "sideways");
   EXPECT_THROW(params.choice("order", "natural", {"natural", "shuffled"}), ProtocolError);
   EXPECT_THROW(params.set_assignment("no_equals_sign"), ProtocolError);
+}
+
+std::string refusal(const std::string& key, const std::string& value, const std::function<void(const ParameterSet&)>& read) {
+  ParameterSet params;
+  params.set(key, value);
+  try {
+    read(params);
+  } catch (const ProtocolError& error) {
+    return error.what();
+  }
+  return "accepted";
+}
+
+TEST(ParameterSet, RefusesValuesOutsideWhatTheirOwnerSaysIsValid) {
+  const auto temperature = [](const ParameterSet& p) { p.real("temperature", 16, ValidRange::above(0)); };
+  EXPECT_EQ(refusal("temperature", "0", temperature), "parameter temperature='0': expected a number > 0");
+  EXPECT_EQ(refusal("temperature", "nan", temperature), "parameter temperature='nan': expected a finite number");
+  EXPECT_EQ(refusal("temperature", "0.5", temperature), "accepted");
+  const auto gamma = [](const ParameterSet& p) { p.real("lr_gamma", 0.5, ValidRange::above_up_to(0, 1)); };
+  EXPECT_EQ(refusal("lr_gamma", "-1", gamma), "parameter lr_gamma='-1': expected a number in (0, 1]");
+  EXPECT_EQ(refusal("lr_gamma", "1", gamma), "accepted");
+  const auto mask = [](const ParameterSet& p) { p.real("orco_mask_time", 0.1, ValidRange::from_up_to(0, 1)); };
+  EXPECT_EQ(refusal("orco_mask_time", "1", mask), "parameter orco_mask_time='1': expected a number in [0, 1)");
+  const auto shots = [](const ParameterSet& p) { p.integer("shot", 5, ValidRange::at_least(1)); };
+  EXPECT_EQ(refusal("shot", "0", shots), "parameter shot='0': expected an integer >= 1");
+  EXPECT_EQ(refusal("shot", "1", shots), "accepted");
+  EXPECT_EQ(refusal("x", "-1e300", [](const ParameterSet& p) { p.real("x", 0, ValidRange::any()); }), "accepted");
 }
 
 }  // namespace

@@ -68,9 +68,33 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
                         "--set no_such_knob");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --set pretrain_epochs=many" + common),
                         "pretrain_epochs='many': expected an integer");
+  // Nonsense values are refused by their owner before anything trains.
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --set temperature=0" + common),
+                        "temperature='0': expected a number > 0");
+  expect_one_error_line(run_cli("--methods pits-sc --dataset simtex-mini --set lr_gamma=-1" + common),
+                        "lr_gamma='-1': expected a number in (0, 1]");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --features disk" + common),
                         "feature storage 'disk': expected auto, memory or on-demand");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --threads -1" + common),
+                        "--threads: expected a number >= 0");
+  expect_one_error_line(run_cli("logmel --input a.h5 --output b.h5 --sample-rate nan --n-fft 128 --hop 16 --n-mels 64"),
+                        "--sample-rate: expected a number > 0");
+  // CLI11's own complaints read like ours: one prefixed line, exit 2.
+  const CommandResult unknown_flag = run_cli("--methods prototype --dataset simtex-mini --bogus" + common);
+  EXPECT_EQ(unknown_flag.exit_code, 2);
+  expect_one_error_line(unknown_flag, "--bogus");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "summary.csv"));
+}
+
+TEST(Cli, OutputThatCannotBeWrittenIsAFailure) {
+  // Tables to a full disk: stdout goes to /dev/full, stderr still to the pipe.
+  const std::string command = std::string(FSCIL_BENCH_EXECUTABLE) + " list 2>&1 >/dev/full";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::array<char, 512> line{};
+  const std::string said = fgets(line.data(), line.size(), pipe) != nullptr ? line.data() : "";
+  const int status = pclose(pipe);
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  EXPECT_EQ(said, "fscil-bench: error: standard output: cannot write (No space left on device)\n");
 }
 
 TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
