@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <sstream>
 
 #include "methods/cop_fscil/cop_fscil_method.h"
@@ -58,6 +59,9 @@ std::vector<std::string> resolve_method_names(const std::string& request) {
   while (std::getline(stream, name, ',')) {
     if (find_method(name) == nullptr) {
       throw MethodError(fmt::format("unknown method '{}': expected all, ablation or one of {}", name, known_names()));
+    }
+    if (std::find(names.begin(), names.end(), name) != names.end()) {
+      throw MethodError(fmt::format("--methods {}: '{}' is named twice", request, name));
     }
     names.push_back(name);
   }

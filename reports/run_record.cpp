@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "reports/atomic_file.h"
+#include "reports/comparable_runs.h"
 #include "reports/text_file.h"
 #include "reports/report_error.h"
 
@@ -67,6 +68,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"threads", record.threads},
                          {"evaluated_on", record.evaluated_on},
                          {"parameters", record.parameters},
+                         {"protocol_parameters", record.protocol_parameters},
                          {"machine", record.machine},
                          {"git_commit", record.git_commit},
                          {"dataset_key", record.dataset_key},
@@ -102,6 +104,9 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin, record.evaluated_on));
     }
     record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
+    if (document.contains("protocol_parameters")) {
+      record.protocol_parameters = document.at("protocol_parameters").get<std::map<std::string, std::string>>();
+    }
     record.machine = document.at("machine").get<std::map<std::string, std::string>>();
     record.git_commit = document.at("git_commit").get<std::string>();
     record.dataset_key = document.at("dataset_key").get<std::string>();
@@ -135,6 +140,13 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       session.context_ratio_mean = number_from(s.at("context_ratio_mean"));
       session.context_ratio_max = number_from(s.at("context_ratio_max"));
       if (s.contains("diagnostics")) session.diagnostics = s.at("diagnostics").get<std::map<std::string, double>>();
+      for (const double accuracy : {session.accuracy.all, session.accuracy.base, session.accuracy.novel,
+                                    session.accuracy.current, session.accuracy.harmonic}) {
+        if (!(accuracy >= 0 && accuracy <= 100)) {
+          throw ReportError(fmt::format("{}: session {} has an accuracy of {}, expected percentages in [0, 100]",
+                                        origin, session.session, accuracy));
+        }
+      }
       record.sessions.push_back(session);
     }
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));
@@ -156,8 +168,12 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   }
   std::sort(files.begin(), files.end());
   std::vector<RunRecord> records;
-  for (const auto& file : files) records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
+  for (const auto& file : files) {
+    records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
+    records.back().source = file.string();
+  }
   if (records.empty()) throw ReportError(fmt::format("{}: holds no result files (*.json)", directory.string()));
+  require_comparable_runs(records);
   return records;
 }
 

@@ -46,6 +46,10 @@ struct RunRecord {
   // chosen on). Files written before the choice existed were scored on test.
   std::string evaluated_on = "test";
   std::map<std::string, std::string> parameters;  // every hyper-parameter and knob used
+  // The subset of `parameters` the dataset and the session protocol read (way, shot, context
+  // strength, ...): runs of different methods compare only when these agree. Empty in files
+  // written before it was recorded.
+  std::map<std::string, std::string> protocol_parameters;
   std::map<std::string, std::string> machine;     // host, cores, compiler, torch version
   std::string git_commit;
   std::string dataset_key;  // cache key: which exact data was used
@@ -57,6 +61,9 @@ struct RunRecord {
   std::int64_t replay_samples = 0;
   std::int64_t replay_bytes = 0;
 
+  // The file this record was read from (not written to it); empty for a run in progress.
+  std::string source;
+
   std::vector<double> session_accuracies() const;
 };
 
@@ -65,7 +72,8 @@ std::string to_json_text(const RunRecord& record);
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
 
 void save_run_record(const std::filesystem::path& directory, const RunRecord& record);
-// Every *.json result file below `directory`, sorted by path. Throws ReportError on a bad file.
+// Every *.json result file below `directory`, sorted by path. Throws ReportError on a bad file
+// and on runs that cannot be compared (see require_comparable_runs).
 std::vector<RunRecord> load_run_records(const std::filesystem::path& directory);
 
 }  // namespace fscil

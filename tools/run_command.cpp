@@ -20,6 +20,7 @@
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/session_schedule.h"
+#include "reports/comparable_runs.h"
 #include "tools/machine_info.h"
 #include "tools/report_writer.h"
 #include "tools/seed_list.h"
@@ -58,19 +59,14 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
 }
 
 // Everything that shapes a run's numbers; a checkpoint or result file of another run is refused.
-std::string run_identity(const std::string& method, const std::string& dataset, const std::string& dataset_key,
-                         std::uint64_t seed, int threads, const std::string& profile, const std::string& evaluated_on,
-                         std::map<std::string, std::string> parameters) {
+std::string identity_of(const RunRecord& record) {
+  std::map<std::string, std::string> parameters = record.parameters;
   parameters.erase("base_training");  // how the base was obtained, not what it is
   std::string text;
   for (const auto& [key, value] : parameters) text += key + "=" + value + ";";
-  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} parameters={}", method,
-                     dataset, dataset_key, seed, threads, profile, evaluated_on, stable_hash(text));
-}
-
-std::string identity_of(const RunRecord& record) {
-  return run_identity(record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
-                      record.evaluated_on, record.parameters);
+  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} parameters={}",
+                     record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
+                     record.evaluated_on, stable_hash(text));
 }
 
 fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
@@ -82,10 +78,33 @@ fs::path checkpoint_path(const fs::path& out, const std::string& method, const s
   return out / "checkpoints" / fs::path(run_record_file_name(name)).replace_extension(".ckpt");
 }
 
+bool holds_results(const fs::path& out) {
+  if (!fs::is_directory(out / "results")) return false;
+  for (const auto& entry : fs::directory_iterator(out / "results")) {
+    if (entry.path().extension() == ".json") return true;
+  }
+  return false;
+}
+
 // With --resume: the runs already finished in `out`, which must be runs of this command.
 std::vector<RunRecord> finished_runs(const RunOptions& options) {
-  if (!options.resume || !fs::exists(fs::path(options.out) / "results")) return {};
+  if (!options.resume || !holds_results(options.out)) return {};  // none stopped before its first run finished
   return load_run_records(options.out);
+}
+
+// A new command may add runs to an --out only where they can share its tables (same data,
+// profile, split, threads and protocol; per method, the same parameters).
+void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& options) {
+  if (options.resume || !holds_results(options.out)) return;
+  const std::vector<RunRecord> existing = load_run_records(options.out);
+  for (const auto& run : planned) {
+    for (const auto& earlier : existing) {
+      if (const std::string why = incomparability(earlier, run); !why.empty()) {
+        throw ProtocolError(fmt::format("--out {}: {} holds a run that cannot share a table with this one ({}); "
+                                        "write to another --out", options.out, earlier.source, why));
+      }
+    }
+  }
 }
 
 }  // namespace
@@ -97,6 +116,11 @@ int configure_threads(int requested) {
 }
 
 void run_benchmark(const RunOptions& options) {
+  if (options.out.empty()) throw ProtocolError("--out '': expected a folder for the results");
+  if (options.resume && !fs::is_directory(options.out)) {
+    throw ProtocolError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the "
+                                    "interrupted command)", options.out));
+  }
   const auto method_names = resolve_method_names(options.methods);
   const auto seeds = parse_seed_list(options.seeds);
   const int threads = configure_threads(options.threads);
@@ -144,6 +168,29 @@ void run_benchmark(const RunOptions& options) {
   for (const auto& method_param : method_params) readers.push_back(&method_param);
   reject_unread_keys(params, readers);
 
+  std::map<std::string, std::string> protocol_parameters = dataset_params.used();
+  for (const auto& [key, value] : protocol_params.used()) protocol_parameters[key] = value;
+  // What a run of this command is before it trains: its identity, and the start of its record.
+  const auto planned_run = [&](const std::string& method, const ParameterSet& method_parameters, std::uint64_t seed) {
+    RunRecord run;
+    run.method = method;
+    run.dataset = options.dataset;
+    run.profile = options.profile;
+    run.seed = seed;
+    run.threads = threads;
+    run.evaluated_on = to_string(evaluation);
+    run.parameters = method_parameters.used();
+    for (const auto& [key, value] : protocol_parameters) run.parameters[key] = value;
+    run.protocol_parameters = protocol_parameters;
+    run.dataset_key = dataset.cache_key;
+    return run;
+  };
+  std::vector<RunRecord> planned;
+  for (std::size_t m = 0; m < method_names.size(); ++m) {
+    planned.push_back(planned_run(method_names[m], method_params[m], seeds.front()));
+  }
+  require_room_for(planned, options);
+
   const auto machine = describe_machine();
   const std::string commit = source_commit();
   std::vector<RunRecord> records;
@@ -162,14 +209,11 @@ void run_benchmark(const RunOptions& options) {
                                  m * seeds.size() + s + 1, method_names.size() * seeds.size()));
       ParameterSet run_params = params;
       auto method = create_method(method_names[m], run_params);
-      std::map<std::string, std::string> parameters = run_params.used();
-      for (const auto& [key, value] : dataset_params.used()) parameters[key] = value;
-      for (const auto& [key, value] : protocol_params.used()) parameters[key] = value;
-      const std::string identity = run_identity(method_names[m], options.dataset, dataset.cache_key, seeds[s], threads,
-                                                options.profile, to_string(evaluation), parameters);
+      RunRecord record = planned_run(method_names[m], run_params, seeds[s]);
+      const std::string identity = identity_of(record);
       const fs::path checkpoint_file = checkpoint_path(options.out, method_names[m], options.dataset, seeds[s]);
-      const auto done = std::find_if(finished.begin(), finished.end(), [&](const RunRecord& record) {
-        return record.method == method_names[m] && record.dataset == options.dataset && record.seed == seeds[s];
+      const auto done = std::find_if(finished.begin(), finished.end(), [&](const RunRecord& run) {
+        return run.method == method_names[m] && run.dataset == options.dataset && run.seed == seeds[s];
       });
       if (done != finished.end()) {
         if (identity_of(*done) != identity) {
@@ -226,14 +270,6 @@ void run_benchmark(const RunOptions& options) {
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);
 
-      RunRecord record;
-      record.method = method_names[m];
-      record.dataset = options.dataset;
-      record.profile = options.profile;
-      record.seed = seeds[s];
-      record.threads = threads;
-      record.evaluated_on = to_string(evaluation);
-      record.parameters = parameters;
       record.machine = machine;
       record.git_commit = commit;
       record.dataset_key = dataset.cache_key;

@@ -32,6 +32,7 @@ cop_fscil_configs=(
   "cpi-view-half|cop-fscil/cpi|cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
   "cpi-kept-clean-alpha-0.5|cop-fscil/cpi|cpi_kept=clean cpi_mix_alpha=0.5"
   "cpi-kept-clean-view-half|cop-fscil/cpi|cpi_kept=clean cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
+  "cpi-kept-clean-view-quarter|cop-fscil/cpi|cpi_kept=clean cpi_global_bias=0.125 cpi_channel_bias=0.075 cpi_tilt=0.125 cpi_noise=0.025"
   "full|cop-fscil|"
   "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
   "full-pic-normalised|cop-fscil|pic_space=normalised"

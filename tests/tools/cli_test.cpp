@@ -297,6 +297,20 @@ TEST_F(KilledRun, ResumeEndsWithExactlyTheResultsOfAnUninterruptedRun) {
   }
 }
 
+TEST_F(KilledRun, AnEmptyResultsFolderStillResumesAndAMistypedResumePathIsRefused) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + (out.path() / "typo").string()),
+                        "typo: no such folder, nothing to resume");
+  std::filesystem::remove(result("prototype"));  // results/ is now empty, the checkpoint still there
+  std::string loud = kOptions;
+  loud.erase(loud.find(" --quiet"), 8);
+  const CommandResult resumed = run_cli(loud + " --resume " + out.path().string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("continuing after session"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(std::filesystem::exists(result("prototype")));
+  EXPECT_TRUE(std::filesystem::exists(result("cop-fscil")));
+}
+
 TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
   ASSERT_TRUE(std::filesystem::exists(checkpoint()));
   const auto size = std::filesystem::file_size(checkpoint());
@@ -312,6 +326,35 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
                                 "--no-cache --seeds 2 --resume " + out.path().string()),
                         "checkpoint of another run");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "cop-fscil__simtex-mini__seed2.json"));
+}
+
+TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
+  TemporaryDirectory out;
+  const std::string common = " --dataset simtex-mini --profile smoke --quiet --no-cache --out " + out.path().string();
+  ASSERT_EQ(run_cli("--methods prototype --threads 2" + common).exit_code, 0);
+  const auto result = out.path() / "results" / "prototype__simtex-mini__seed1.json";
+  std::ifstream in(result);
+  const std::string written((std::istreambuf_iterator<char>(in)), {});
+  ASSERT_NE(written.find("\"shot\": \"5\""), std::string::npos);
+
+  expect_one_error_line(run_cli("--methods prototype --threads 2 --seeds 2 --set shot=2" + common),
+                        "holds a run that cannot share a table with this one (shot=5 against shot=2)");
+  expect_one_error_line(run_cli("--methods prototype --seeds 2 --threads 1" + common), "(threads 2 against 1)");
+  expect_one_error_line(run_cli("--methods prototype,prototype --threads 2" + common), "'prototype' is named twice");
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
+  std::ifstream again(result);
+  EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), written) << "an earlier result changed";
+
+  // Mixed by hand: report refuses the folder rather than average a 5-shot and a 2-shot run.
+  std::string other = written;
+  for (const std::string from : {"\"shot\": \"5\"", "\"seed\": 1"}) {
+    const std::string to = from == "\"seed\": 1" ? "\"seed\": 2" : "\"shot\": \"2\"";
+    for (auto at = other.find(from); at != std::string::npos; at = other.find(from)) other.replace(at, from.size(), to);
+  }
+  std::filesystem::create_directories(out.path() / "copied");
+  std::ofstream(out.path() / "copied" / "prototype__simtex-mini__seed2.json") << other;
+  const CommandResult report = run_cli("report --results " + out.path().string());
+  expect_one_error_line(report, "runs that cannot share a table (shot=2 against shot=5)");
 }
 
 TEST(Cli, FeaturesComputedOnDemandGiveTheAccuraciesOfFeaturesKeptInMemory) {

@@ -1,0 +1,122 @@
+#include "reports/comparable_runs.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "reports/report_error.h"
+#include "reports/run_record.h"
+#include "tests/temporary_directory.h"
+
+namespace fscil {
+namespace {
+
+RunRecord run_of(const std::string& method, std::uint64_t seed, const std::string& shot = "5") {
+  RunRecord record;
+  record.method = method;
+  record.dataset = "simtex";
+  record.profile = "fast";
+  record.seed = seed;
+  record.threads = 2;
+  record.protocol_parameters = {{"context_strength", "1"}, {"shot", shot}, {"way", "5"}};
+  record.parameters = record.protocol_parameters;
+  record.parameters["pretrain_epochs"] = "8";
+  record.dataset_key = "0123";
+  record.source = method + "-" + std::to_string(seed) + ".json";
+  SessionRecord session;
+  session.accuracy.all = 50;
+  record.sessions.push_back(session);
+  return record;
+}
+
+std::string refusal(const std::vector<RunRecord>& records) {
+  try {
+    require_comparable_runs(records);
+  } catch (const ReportError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(ComparableRuns, SeedsOfOneMethodAndMethodsOfOneProtocolShareATable) {
+  RunRecord orco = run_of("orco", 1);
+  orco.parameters["temperature"] = "16";  // a method's own parameters are its own business
+  EXPECT_EQ(refusal({run_of("prototype", 1), run_of("prototype", 2), orco}), "");
+  RunRecord other_dataset = run_of("prototype", 1, "3");
+  other_dataset.dataset = "simtex-lmt";
+  other_dataset.dataset_key = "4567";
+  EXPECT_EQ(refusal({run_of("prototype", 1), other_dataset}), "") << "datasets are separate rows";
+}
+
+TEST(ComparableRuns, AnotherShotProfileSplitThreadCountOrDataIsRefusedNamingBothFiles) {
+  EXPECT_EQ(refusal({run_of("prototype", 1), run_of("prototype", 2, "3")}),
+            "prototype-1.json and prototype-2.json: runs that cannot share a table (shot=5 against shot=3); keep "
+            "them in separate folders");
+  EXPECT_NE(refusal({run_of("prototype", 1), run_of("orco", 1, "3")}).find("(shot=5 against shot=3)"),
+            std::string::npos) << "another method is no excuse for another protocol";
+  RunRecord smoke = run_of("prototype", 2);
+  smoke.profile = "smoke";
+  EXPECT_NE(refusal({run_of("prototype", 1), smoke}).find("(profile fast against smoke)"), std::string::npos);
+  RunRecord validation = run_of("orco", 2);
+  validation.evaluated_on = "validation";
+  EXPECT_NE(refusal({run_of("prototype", 1), validation}).find("(scored on test against validation)"),
+            std::string::npos);
+  RunRecord one_thread = run_of("prototype", 2);
+  one_thread.threads = 1;
+  EXPECT_NE(refusal({run_of("prototype", 1), one_thread}).find("(threads 2 against 1)"), std::string::npos);
+  RunRecord other_data = run_of("prototype", 2);
+  other_data.dataset_key = "89ab";
+  EXPECT_NE(refusal({run_of("prototype", 1), other_data}).find("(data 0123 against 89ab)"), std::string::npos);
+}
+
+TEST(ComparableRuns, OneMethodWithOtherParametersOrOneSeedTwiceIsRefused) {
+  RunRecord longer = run_of("prototype", 2);
+  longer.parameters["pretrain_epochs"] = "100";
+  EXPECT_NE(refusal({run_of("prototype", 1), longer}).find("(pretrain_epochs=8 against pretrain_epochs=100)"),
+            std::string::npos);
+  RunRecord shared = run_of("prototype", 2);
+  shared.parameters["base_training"] = "shared with pits-sc";
+  EXPECT_EQ(refusal({run_of("prototype", 1), shared}), "") << "a shared base is the same base";
+  EXPECT_NE(refusal({run_of("prototype", 1), run_of("prototype", 1)}).find("(prototype seed 1 twice)"),
+            std::string::npos);
+}
+
+TEST(ComparableRuns, FilesWrittenBeforeProtocolParametersCompareOnTheirOtherFields) {
+  RunRecord old_orco = run_of("orco", 1, "3");
+  old_orco.protocol_parameters.clear();
+  EXPECT_EQ(refusal({run_of("prototype", 1), old_orco}), "");
+  old_orco.profile = "paper";
+  EXPECT_NE(refusal({run_of("prototype", 1), old_orco}), "");
+}
+
+TEST(ComparableRuns, LoadingAMixedFolderIsRefusedAndOutOfRangeAccuraciesToo) {
+  TemporaryDirectory out;
+  save_run_record(out.path(), run_of("prototype", 1));
+  save_run_record(out.path() / "later", run_of("prototype", 2, "3"));
+  try {
+    load_run_records(out.path());
+    FAIL() << "a 5-shot and a 3-shot run were loaded as seeds of one row";
+  } catch (const ReportError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("later/results/prototype__simtex__seed2.json and " + out.path().string() +
+                           "/results/prototype__simtex__seed1.json: runs that cannot share a table (shot=3 against "
+                           "shot=5)"),
+              std::string::npos)
+        << message;
+  }
+  std::string text = to_json_text(run_of("prototype", 1));
+  text.replace(text.find("\"accuracy\": 50"), 14, "\"accuracy\": 150");
+  EXPECT_THROW(
+      {
+        try {
+          run_record_from_json_text(text, "odd.json");
+        } catch (const ReportError& error) {
+          EXPECT_STREQ(error.what(), "odd.json: session 0 has an accuracy of 150, expected percentages in [0, 100]");
+          throw;
+        }
+      },
+      ReportError);
+}
+
+}  // namespace
+}  // namespace fscil
