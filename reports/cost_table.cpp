@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "reports/latex_text.h"
+
 namespace fscil {
 
 namespace {
@@ -95,7 +97,7 @@ std::string render_cost_latex(const std::vector<CostRow>& rows) {
   for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
   out += " \\\\\n\\midrule\n";
   for (const auto& row : rows) {
-    out += fmt::format("{} & {}", row.method, row.dataset);
+    out += fmt::format("{} & {}", latex_text(row.method), latex_text(row.dataset));
     for (const auto& column : columns()) out += " & " + column.text(row);
     out += " \\\\\n";
   }

@@ -25,6 +25,15 @@ double number_from(const json& value) {
   return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
 }
 
+// A bad name as an error message shows it: at most 60 characters, control bytes as '?'.
+std::string shown(const std::string& name) {
+  std::string text = name.substr(0, 60);
+  for (char& c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  }
+  return name.size() > 60 ? text + "..." : text;
+}
+
 std::string safe_name(std::string text) {
   for (char& c : text) {
     if (c == '/' || c == ' ' || c == '+') c = '_';
@@ -96,6 +105,14 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     RunRecord record;
     record.method = document.at("method").get<std::string>();
     record.dataset = document.at("dataset").get<std::string>();
+    // Names go into CSV, Markdown and LaTeX tables and into file names as they are.
+    for (const auto& [field, name] : {std::pair("method", record.method), std::pair("dataset", record.dataset)}) {
+      if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+/-") !=
+                              std::string::npos) {
+        throw ReportError(fmt::format("{}: {} '{}', expected letters, digits, '_', '.', '+', '/' or '-'", origin, field,
+                                      shown(name)));
+      }
+    }
     record.profile = document.at("profile").get<std::string>();
     record.seed = document.at("seed").get<std::uint64_t>();
     record.threads = document.at("threads").get<int>();

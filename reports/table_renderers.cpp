@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 
+#include "reports/latex_text.h"
 #include "reports/summary_table.h"
 
 namespace fscil {
@@ -132,7 +133,7 @@ std::string render_latex(const SummaryTable& table) {
     const auto columns = paper_columns(max_sessions(rows));
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
-    out += fmt::format("\\caption{{Comparison on {}, {} split{}.}}\n", dataset, table.evaluated_on,
+    out += fmt::format("\\caption{{Comparison on {}, {} split{}.}}\n", latex_text(dataset), table.evaluated_on,
                        with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
     out += fmt::format("\\begin{{tabular}}{{l{}ccc}}\n\\toprule\n", std::string(sessions, 'c'));
     out += fmt::format("\\multirow{{2}}{{*}}{{Method}} & \\multicolumn{{{}}}{{c}}{{Accuracy in each session $\\uparrow$}}"
@@ -143,7 +144,7 @@ std::string render_latex(const SummaryTable& table) {
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(" & {}", s);
     out += " & & & \\\\\n\\midrule\n";
     for (const auto* row : rows) {
-      out += row->method;
+      out += latex_text(row->method);
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
         out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+
 #include "datasets/dataset_error.h"
 #include "datasets/hdf5_file.h"
 #include "datasets/log_mel_extractor.h"
@@ -11,6 +13,11 @@ namespace fscil {
 void run_logmel(LogMelOptions options) {
   options.settings.scale = parse_mel_scale(options.mel_scale);
   options.settings.norm = parse_mel_norm(options.mel_norm);
+  std::error_code ignored;
+  if (std::filesystem::equivalent(options.input, options.output, ignored)) {
+    throw DatasetError(fmt::format("--output {}: is the input file; write the log-Mel features elsewhere",
+                                   options.output));
+  }
   const FloatArray signal = read_hdf5_floats(options.input, "/signal", 2);
   if (signal.shape[0] < 1 || signal.shape[1] < 1) {
     throw DatasetError(fmt::format("{}: dataset '/signal' is {} x {}, expected C x L with C, L >= 1", options.input,

@@ -22,6 +22,7 @@
 #include "protocols/session_schedule.h"
 #include "reports/comparable_runs.h"
 #include "tools/machine_info.h"
+#include "tools/out_folder_lock.h"
 #include "tools/report_writer.h"
 #include "tools/seed_list.h"
 
@@ -190,6 +191,7 @@ void run_benchmark(const RunOptions& options) {
     planned.push_back(planned_run(method_names[m], method_params[m], seeds.front()));
   }
   require_room_for(planned, options);
+  const OutFolderLock lock(options.out);
 
   const auto machine = describe_machine();
   const std::string commit = source_commit();

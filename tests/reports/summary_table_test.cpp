@@ -153,5 +153,23 @@ TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
   EXPECT_NE(markdown.find("| pits-sc | **95.00** | 65.00 | 30.00 | **80.00** |"), std::string::npos) << markdown;
 }
 
+TEST(SummaryTable, LatexEscapesNamesAndResultFilesRefuseNamesNoTableCanHold) {
+  RunRecord lab = record_of("cop-fscil/cpi+pspc", 1, {90, 70});
+  lab.dataset = "lab_2024";
+  const std::string latex = render_latex(summarize_runs({lab}));
+  EXPECT_NE(latex.find("Comparison on lab\\_2024, test split"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\ncop-fscil/cpi+pspc & "), std::string::npos) << latex;
+
+  std::string text = to_json_text(record_of("prototype", 1, {90, 70}));
+  text.replace(text.find("\"prototype\""), 11, "\"proto\\ntype & 100% best\"");
+  try {
+    run_record_from_json_text(text, "odd.json");
+    FAIL() << "a method name with a newline and LaTeX specials was accepted";
+  } catch (const ReportError& error) {
+    EXPECT_STREQ(error.what(),
+                 "odd.json: method 'proto?type & 100% best', expected letters, digits, '_', '.', '+', '/' or '-'");
+  }
+}
+
 }  // namespace
 }  // namespace fscil

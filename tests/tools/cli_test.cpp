@@ -200,7 +200,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
             0);
   std::filesystem::copy(test_out.path() / "results" / "prototype__simtex-mini__seed1.json",
                         out.path() / "results" / "prototype__simtex-mini__seed1.json");
-  expect_one_error_line(run_cli("report --results " + out.path().string()), "report them from separate directories");
+  expect_one_error_line(run_cli("report --results " + out.path().string()), "scored on validation against test");
   // Under a device shift simtex-mini's novel classes have one held-out recording left for their
   // shots and none for validation: refused before any training.
   expect_one_error_line(run_cli(common + " --evaluate-on validation --set context_shift=device --out " +
@@ -413,6 +413,12 @@ TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
               std::string::npos);
     EXPECT_FALSE(std::filesystem::exists(target)) << "no output may be written for " << bad.file;
   }
+  // The input named as the output, however spelled, is refused before it is read or replaced.
+  const auto before = std::filesystem::file_size(input);
+  expect_one_error_line(run_cli("logmel --input " + input.string() + " --output " + directory.path().string() +
+                                "/./in.h5" + settings),
+                        "is the input file");
+  EXPECT_EQ(std::filesystem::file_size(input), before);
 }
 
 // A full smoke protocol on each real-data adapter's fixture tree, as a user would run it.
