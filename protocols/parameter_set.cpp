@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "protocols/protocol_error.h"
+#include "protocols/shown_text.h"
 
 namespace fscil {
 
@@ -24,7 +25,7 @@ void ParameterSet::set_default(const std::string& key, const std::string& value)
 void ParameterSet::set_assignment(const std::string& assignment) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
-    throw ProtocolError(fmt::format("--set '{}': expected key=value", assignment));
+    throw ProtocolError(fmt::format("--set '{}': expected key=value", shown_text(assignment)));
   }
   set(assignment.substr(0, equals), assignment.substr(equals + 1));
 }
@@ -50,12 +51,12 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
   errno = 0;
   const double parsed = std::strtod(value->c_str(), &end);
   if (value->empty() || *end != '\0' || errno != 0 || !std::isfinite(parsed)) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, *value));
+    throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
   }
   if (!valid.contains(parsed)) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, *value, valid.describe()));
+    throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, shown_text(*value), valid.describe()));
   }
-  remember(key, *value);
+  remember(key, shown_text(*value));
   return parsed;
 }
 
@@ -69,12 +70,12 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
   errno = 0;
   const long long parsed = std::strtoll(value->c_str(), &end, 10);
   if (value->empty() || *end != '\0' || errno != 0) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, *value));
+    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
   }
   if (!valid.contains(static_cast<double>(parsed))) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, *value, valid.describe()));
+    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, shown_text(*value), valid.describe()));
   }
-  remember(key, *value);
+  remember(key, shown_text(*value));
   return parsed;
 }
 
@@ -92,7 +93,7 @@ bool ParameterSet::flag(const std::string& key, bool fallback) const {
     remember(key, "false");
     return false;
   }
-  throw ProtocolError(fmt::format("parameter {}='{}': expected true or false", key, *value));
+  throw ProtocolError(fmt::format("parameter {}='{}': expected true or false", key, shown_text(*value)));
 }
 
 std::string ParameterSet::text(const std::string& key, const std::string& fallback) const {
@@ -107,7 +108,7 @@ std::string ParameterSet::choice(const std::string& key, const std::string& fall
   const std::string result = text(key, fallback);
   if (std::find(allowed.begin(), allowed.end(), result) == allowed.end()) {
     throw ProtocolError(
-        fmt::format("parameter {}='{}': expected one of {}", key, result, fmt::join(allowed, ", ")));
+        fmt::format("parameter {}='{}': expected one of {}", key, shown_text(result), fmt::join(allowed, ", ")));
   }
   return result;
 }
@@ -122,7 +123,7 @@ std::vector<std::string> ParameterSet::unread_keys() const {
 
 void ParameterSet::mark_read(const std::set<std::string>& keys) {
   for (const auto& key : keys) {
-    if (const std::string* value = lookup(key)) remember(key, *value);
+    if (const std::string* value = lookup(key)) remember(key, shown_text(*value));
   }
 }
 

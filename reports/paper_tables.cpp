@@ -17,15 +17,15 @@ const char* const kHeader = "table,dataset,method,venue,session_acc,PD,AA,ADR";
 }  // namespace
 
 std::vector<PaperRow> load_paper_tables(const std::filesystem::path& path) {
-  std::stringstream lines(read_text_file(path));
-  std::string line;
-  if (!std::getline(lines, line) || line != kHeader) {
+  const std::vector<std::string> lines = csv_lines(read_text_file(path));
+  if (lines.empty() || lines[0] != kHeader) {
     throw ReportError(fmt::format("{}:1: header must be '{}'", path.string(), kHeader));
   }
   std::vector<PaperRow> rows;
-  for (int number_of_line = 2; std::getline(lines, line); ++number_of_line) {
+  for (std::size_t number = 1; number < lines.size(); ++number) {
+    const std::string& line = lines[number];
     if (line.empty()) continue;
-    const std::string where = fmt::format("{}:{}", path.string(), number_of_line);
+    const std::string where = fmt::format("{}:{}", path.string(), number + 1);
     const auto fields = split_fields(line);
     if (fields.size() != 8) throw ReportError(fmt::format("{}: {} fields, expected 8", where, fields.size()));
     PaperRow row{fields[0], fields[1], fields[2], fields[3], {}, 0, 0, 0};

@@ -8,8 +8,10 @@
 #include <set>
 
 #include "metrics/fscil_metrics.h"
+#include "protocols/shown_text.h"
 #include "reports/csv_fields.h"
 #include "reports/report_error.h"
+#include "reports/text_file.h"
 
 namespace fscil {
 
@@ -60,17 +62,18 @@ std::string render_reference_csv(const std::vector<ReferenceValue>& values, cons
 }
 
 std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw ReportError(fmt::format("{}: cannot read the reference file", path.string()));
+  if (!std::filesystem::is_regular_file(path)) {
+    throw ReportError(fmt::format("{}: cannot read the reference file", path.string()));
+  }
   std::vector<ReferenceValue> values;
   bool header_seen = false;
   int line_number = 0;
-  for (std::string line; std::getline(in, line);) {
+  for (const std::string& line : csv_lines(read_text_file(path))) {
     ++line_number;
     if (line.empty() || line[0] == '#') continue;
     const std::string where = fmt::format("{}:{}", path.string(), line_number);
     if (!header_seen) {
-      if (line != kHeader) throw ReportError(fmt::format("{}: header '{}', expected '{}'", where, line, kHeader));
+      if (line != kHeader) throw ReportError(fmt::format("{}: header '{}', expected '{}'", where, shown_text(line), kHeader));
       header_seen = true;
       continue;
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "protocols/shown_text.h"
 #include "reports/atomic_file.h"
 #include "reports/comparable_runs.h"
 #include "reports/text_file.h"
@@ -23,15 +24,6 @@ constexpr int kSchemaVersion = 1;
 json number_or_null(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
 double number_from(const json& value) {
   return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
-}
-
-// A bad name as an error message shows it: at most 60 characters, control bytes as '?'.
-std::string shown(const std::string& name) {
-  std::string text = name.substr(0, 60);
-  for (char& c : text) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
-  }
-  return name.size() > 60 ? text + "..." : text;
 }
 
 std::string safe_name(std::string text) {
@@ -110,7 +102,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+/-") !=
                               std::string::npos) {
         throw ReportError(fmt::format("{}: {} '{}', expected letters, digits, '_', '.', '+', '/' or '-'", origin, field,
-                                      shown(name)));
+                                      shown_text(name)));
       }
     }
     record.profile = document.at("profile").get<std::string>();
@@ -118,7 +110,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.threads = document.at("threads").get<int>();
     record.evaluated_on = document.value("evaluated_on", std::string("test"));
     if (record.evaluated_on != "test" && record.evaluated_on != "validation") {
-      throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin, record.evaluated_on));
+      throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin,
+                                    shown_text(record.evaluated_on)));
     }
     record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
     if (document.contains("protocol_parameters")) {

@@ -11,6 +11,7 @@
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
+#include "protocols/shown_text.h"
 #include "reports/atomic_file.h"
 #include "reports/context_analysis.h"
 #include "reports/run_record.h"
@@ -145,7 +146,7 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --help-all
-    fmt::print(stderr, "fscil-bench: error: {} (try: fscil-bench --help)\n", error.what());
+    fmt::print(stderr, "fscil-bench: error: {} (try: fscil-bench --help)\n", fscil::shown_text(error.what(), 2000));
     return 2;
   }
   int status = 0;
@@ -188,7 +189,8 @@ int main(int argc, char** argv) {
     // One line naming what was wrong; earlier result files stay as they were written.
     std::string message = error.what();
     if (const auto newline = message.find('\n'); newline != std::string::npos) message.resize(newline);
-    fmt::print(stderr, "fscil-bench: error: {}\n", message);
+    // Whatever a library put in its message, no raw byte reaches the terminal.
+    fmt::print(stderr, "fscil-bench: error: {}\n", fscil::shown_text(message, 2000));
     return 1;
   }
   return status;

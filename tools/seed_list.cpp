@@ -6,6 +6,7 @@
 #include <cctype>
 #include <sstream>
 
+#include "protocols/shown_text.h"
 #include "tools/cli_error.h"
 
 namespace fscil {
@@ -41,7 +42,7 @@ std::vector<std::uint64_t> parse_seed_list(const std::string& text) {
     for (std::uint64_t seed = first; seed <= last; ++seed) seeds.push_back(seed);
   }
   if (seeds.empty() || text.back() == ',') {
-    throw CliError(fmt::format("--seeds '{}': expected comma-separated non-negative integers or ranges like 1-5", text));
+    throw CliError(fmt::format("--seeds '{}': expected comma-separated non-negative integers or ranges like 1-5", shown_text(text)));
   }
   for (std::size_t i = 0; i < seeds.size(); ++i) {
     if (std::count(seeds.begin(), seeds.end(), seeds[i]) > 1) {

@@ -9,6 +9,7 @@
 #include "datasets/dataset_error.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
+#include "protocols/shown_text.h"
 
 namespace fscil {
 
@@ -36,7 +37,7 @@ int parse_label(const std::string& field, const std::string& where) {
     end = 0;
   }
   if (end != field.size() || label < 0) {
-    throw DatasetError(fmt::format("{}: label '{}', expected a class index >= 0", where, field));
+    throw DatasetError(fmt::format("{}: label '{}', expected a class index >= 0", where, shown_text(field)));
   }
   return label;
 }

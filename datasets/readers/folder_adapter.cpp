@@ -11,6 +11,7 @@
 
 #include "datasets/dataset_error.h"
 #include "datasets/readers/text_table.h"
+#include "protocols/shown_text.h"
 #include "protocols/valid_range.h"
 
 namespace fscil {
@@ -81,7 +82,7 @@ class DatasetJson {
     for (const auto& item : list) {
       if (!item.is_string() || item.get<std::string>().empty()) fail(field, "a list of names");
       if (std::find(result.begin(), result.end(), item.get<std::string>()) != result.end()) {
-        fail(field, fmt::format("a list of distinct names ('{}' is listed twice)", item.get<std::string>()));
+        fail(field, fmt::format("a list of distinct names ('{}' is listed twice)", shown_text(item.get<std::string>())));
       }
       result.push_back(item.get<std::string>());
     }
@@ -162,7 +163,7 @@ SplitHint parse_split(const std::string& text, const std::string& where) {
   if (text == "train") return SplitHint::train;
   if (text == "validation" || text == "val") return SplitHint::validation;
   if (text == "test") return SplitHint::test;
-  throw DatasetError(fmt::format("{}: split '{}', expected train, validation, test or empty", where, text));
+  throw DatasetError(fmt::format("{}: split '{}', expected train, validation, test or empty", where, shown_text(text)));
 }
 
 // "speed=1.2;device=3" -> {speed: 1.2, device: 3}
@@ -174,9 +175,9 @@ std::map<std::string, double> parse_context(const std::string& text, const std::
     if (item.empty()) continue;
     const auto equals = item.find('=');
     if (equals == std::string::npos || equals == 0) {
-      throw DatasetError(fmt::format("{}: context '{}', expected key=number pairs separated by ';'", where, item));
+      throw DatasetError(fmt::format("{}: context '{}', expected key=number pairs separated by ';'", where, shown_text(item)));
     }
-    context[item.substr(0, equals)] = parse_finite_float(item.substr(equals + 1), where + " context " + item);
+    context[item.substr(0, equals)] = parse_finite_float(item.substr(equals + 1), where + " context " + shown_text(item));
   }
   return context;
 }
@@ -188,7 +189,7 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
   std::string item;
   while (std::getline(items, item, ';')) {
     const fs::path file = root / item;
-    if (!fs::is_regular_file(file)) throw DatasetError(fmt::format("{}: file {} not found", where, file.string()));
+    if (!fs::is_regular_file(file)) throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
     files.push_back(file);
   }
   if (files.empty()) throw DatasetError(fmt::format("{}: empty file field", where));
@@ -197,7 +198,7 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
                                std::all_of(files.begin(), files.end(), [](const fs::path& f) { return f.extension() == ".txt"; });
   if (!one_csv && !txt_per_channel) {
     throw DatasetError(fmt::format("{}: '{}', expected one .csv file or {} .txt files (one per channel) separated by ';'",
-                                   where, field, channels));
+                                   where, shown_text(field), channels));
   }
   return files;
 }
@@ -257,7 +258,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
     const auto [previous, fresh] = line_of_recording.emplace(source.id, manifest.line_of_row[r]);
     if (!fresh) {
       throw DatasetError(fmt::format("{}: recording '{}' already listed on line {}; recording ids must be unique",
-                                     where, source.id, previous->second));
+                                     where, shown_text(source.id), previous->second));
     }
     source.class_index = class_of.emplace(row[class_column], static_cast<int>(class_of.size())).first->second;
     if (source.class_index == static_cast<int>(d.class_names.size())) d.class_names.push_back(row[class_column]);

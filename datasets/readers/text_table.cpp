@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "datasets/dataset_error.h"
+#include "protocols/shown_text.h"
 
 namespace fscil {
 
@@ -44,6 +45,13 @@ std::ifstream open_or_throw(const std::filesystem::path& path) {
   return in;
 }
 
+// The next line, without the byte-order mark a spreadsheet may put before the first one.
+bool next_line(std::ifstream& in, std::string& line, int& line_number) {
+  if (!std::getline(in, line)) return false;
+  if (++line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+  return true;
+}
+
 bool blank(const std::string& line) { return line.find_first_not_of(" \t\r\n") == std::string::npos; }
 
 }  // namespace
@@ -53,7 +61,7 @@ std::size_t TextTable::column(const std::string& name) const {
     if (header[c] == name) return c;
   }
   throw DatasetError(fmt::format("{}: no column '{}' in the header (it has {})", path.string(), name,
-                                 fmt::join(header, ",")));
+                                 shown_text(fmt::format("{}", fmt::join(header, ",")))));
 }
 
 bool TextTable::has_column(const std::string& name) const {
@@ -69,8 +77,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
   table.path = path;
   std::string line;
   int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
+  while (next_line(in, line, line_number)) {
     if (blank(line)) continue;
     auto fields = split_fields(line);
     if (table.header.empty()) {
@@ -79,7 +86,8 @@ TextTable read_text_table(const std::filesystem::path& path) {
     }
     if (fields.size() != table.header.size()) {
       throw DatasetError(fmt::format("{}:{}: {} fields, expected {} like the header ({})", path.string(),
-                                     line_number, fields.size(), table.header.size(), fmt::join(table.header, ",")));
+                                     line_number, fields.size(), table.header.size(),
+                                     shown_text(fmt::format("{}", fmt::join(table.header, ",")))));
     }
     table.rows.push_back(std::move(fields));
     table.line_of_row.push_back(line_number);
@@ -95,7 +103,7 @@ float parse_finite_float(const std::string& field, const std::string& where) {
   if (first != last && *first == '+') ++first;
   const auto [end, error] = std::from_chars(first, last, value);
   if (field.empty() || error != std::errc() || end != last) {
-    throw DatasetError(fmt::format("{}: '{}' is not a number", where, field));
+    throw DatasetError(fmt::format("{}: '{}' is not a number", where, shown_text(field)));
   }
   if (!std::isfinite(value)) throw DatasetError(fmt::format("{}: {} found, expected a finite number", where, field));
   return value;
@@ -107,13 +115,12 @@ SignalData read_single_column(const std::filesystem::path& path) {
   signal.channels = 1;
   std::string line;
   int line_number = 0;
-  while (std::getline(in, line)) {
-    ++line_number;
+  while (next_line(in, line, line_number)) {
     if (blank(line)) continue;
     const std::string field = trimmed(line);
     if (field.find_first_of(",; \t") != std::string::npos) {
       throw DatasetError(fmt::format("{}:{}: '{}' holds several values, expected one number per line", path.string(),
-                                     line_number, field));
+                                     line_number, shown_text(field)));
     }
     signal.values.push_back(parse_finite_float(field, fmt::format("{}:{}", path.string(), line_number)));
   }

@@ -197,6 +197,27 @@ TEST_F(HaptexManifestErrors, UnknownSplitAndMalformedContext) {
   EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:2: context 'speed', expected key=number pairs");
 }
 
+TEST_F(HaptexManifestErrors, SpreadsheetLineEndsAndByteOrderMarksAreReadAndInvisibleBytesAreShown) {
+  // A manifest and a recording saved by a spreadsheet (byte-order mark, CRLF) read as the originals.
+  for (const fs::path& file : {manifest(), recording(1, 0)}) {
+    std::string text = read_text(file);
+    for (auto at = text.find('\n'); at != std::string::npos; at = text.find('\n', at + 2)) text.insert(at, "\r");
+    write_text(file, "\xEF\xBB\xBF" + text);
+  }
+  EXPECT_EQ(load_error("haptex", root.path()), "");
+  // A column that differs only by invisible bytes is shown with them spelled out, and a huge
+  // field is cut.
+  replace_in(recording(1, 0), "velocity", "velocity\x01");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric01_0.csv: no column 'velocity' in the header");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), ",velocity\\x01)");
+  write_text(manifest(), "file,class,group,recording,split\nrecordings/fabric00_0.csv,a,g,r0,\xEF\xBB\xBFtest\x1b[31m" +
+                             std::string(20'000'000, 'x') + "\n");
+  const std::string message = load_error("haptex", root.path());
+  EXPECT_MENTIONS(message, "manifest.csv:2: split '\\ufefftest\\x1b[31mxxx");
+  EXPECT_MENTIONS(message, "... (20000012 bytes in all)', expected train, validation");
+  EXPECT_LT(message.size(), 400u);
+}
+
 class AudioErrors : public ::testing::Test {
  protected:
   AudioErrors() { write_ls100_fixture(root.path(), {}); }

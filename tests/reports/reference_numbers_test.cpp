@@ -85,6 +85,18 @@ TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
             std::string::npos);
   EXPECT_NE(message_of([&] { load_reference_csv(directory.path() / "absent.csv"); }).find("cannot read"),
             std::string::npos);
+  // Saved by a spreadsheet (byte-order mark, CRLF) it reads as written; a header that differs by
+  // an invisible byte shows the byte.
+  std::ofstream(path) << "\xEF\xBB\xBF" << "method,dataset,profile,seed,threads,metric,expected,tolerance\r\n"
+                      << "prototype,simtex-mini,smoke,1,2,AA,50,2\r\n";
+  const auto values = load_reference_csv(path);
+  ASSERT_EQ(values.size(), 1u);
+  EXPECT_EQ(values[0].tolerance, 2);
+  std::ofstream(path) << "method,dataset,profile,seed,threads,metric,expected,tolerance\x7f\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); })
+                .find("reference.csv:1: header 'method,dataset,profile,seed,threads,metric,expected,tolerance\\x7f', "
+                      "expected 'method,"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -167,7 +167,7 @@ TEST(SummaryTable, LatexEscapesNamesAndResultFilesRefuseNamesNoTableCanHold) {
     FAIL() << "a method name with a newline and LaTeX specials was accepted";
   } catch (const ReportError& error) {
     EXPECT_STREQ(error.what(),
-                 "odd.json: method 'proto?type & 100% best', expected letters, digits, '_', '.', '+', '/' or '-'");
+                 "odd.json: method 'proto\\ntype & 100% best', expected letters, digits, '_', '.', '+', '/' or '-'");
   }
 }
 

@@ -84,6 +84,12 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   EXPECT_EQ(unknown_flag.exit_code, 2);
   expect_one_error_line(unknown_flag, "--bogus");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "summary.csv"));
+  // A result file of raw bytes and terminal escapes: the error line spells them out.
+  std::filesystem::create_directories(out.path() / "results");
+  std::ofstream(out.path() / "results" / "odd.json") << "{\"method\": \"\xff\x1b[2J\x07" << std::string(5000, 'x');
+  const CommandResult odd = run_cli("report --results " + out.path().string());
+  expect_one_error_line(odd, "odd.json: not a valid result file");
+  EXPECT_EQ(odd.output.find_first_of("\x1b\x07\xff"), std::string::npos) << odd.output;
 }
 
 TEST(Cli, OutputThatCannotBeWrittenIsAFailure) {
