@@ -6,26 +6,20 @@
 
 #include "reports/report_error.h"
 #include "reports/run_record.h"
+#include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {
 namespace {
 
 RunRecord run_of(const std::string& method, std::uint64_t seed, const std::string& shot = "5") {
-  RunRecord record;
-  record.method = method;
-  record.dataset = "simtex";
+  RunRecord record = run_with_accuracies(method, "simtex", seed, {50});
   record.profile = "fast";
-  record.seed = seed;
-  record.threads = 2;
   record.protocol_parameters = {{"context_strength", "1"}, {"shot", shot}, {"way", "5"}};
   record.parameters = record.protocol_parameters;
   record.parameters["pretrain_epochs"] = "8";
   record.dataset_key = "0123";
   record.source = method + "-" + std::to_string(seed) + ".json";
-  SessionRecord session;
-  session.accuracy.all = 50;
-  record.sessions.push_back(session);
   return record;
 }
 
