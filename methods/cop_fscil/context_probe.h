@@ -13,10 +13,10 @@ enum class ProbeSpace { standardised, raw };
 // Ranges of CPI's random view: in standardised units after bn0; before it, in units of each
 // sample's log-Mel standard deviation (dB maps have no common unit).
 struct ViewRanges {
-  double global_bias = 0.5;   // b_g ~ U(-a_g, a_g)
-  double channel_bias = 0.3;  // b_ch ~ U(-a_ch, a_ch) per channel
-  double tilt = 0.5;          // s ~ U(-a_s, a_s), times r_f = 2f/(F-1) - 1
-  double noise = 0.1;         // eta ~ N(0, s_eta^2)
+  double global_bias = 0.25;   // b_g ~ U(-a_g, a_g)
+  double channel_bias = 0.15;  // b_ch ~ U(-a_ch, a_ch) per channel
+  double tilt = 0.25;          // s ~ U(-a_s, a_s), times r_f = 2f/(F-1) - 1
+  double noise = 0.05;         // eta ~ N(0, s_eta^2)
   double max_shift_fraction = 0.125;  // dt ~ U{-d, d} frames, d = fraction * T
 };
 

@@ -45,7 +45,7 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   cpi.bank_capacity = params.integer("cpi_bank", cpi.bank_capacity, ValidRange::at_least(1));
   s.support_coverage = params.real("cpi_support_coverage", s.support_coverage, ValidRange::between(0, 1));
   s.query_coverage = params.real("cpi_query_coverage", s.query_coverage, ValidRange::between(0, 1));
-  s.kept = kept_coverage_of(params.choice("cpi_kept", "query", {"query", "clean", "split"}));
+  s.kept = kept_coverage_of(params.choice("cpi_kept", "clean", {"query", "clean", "split"}));
   s.episode_statistics =
       episode_statistics_of(params.choice("cpi_bn_statistics", "update", {"update", "guarded", "reestimate"}));
   s.pretrain_coverage = params.real("cpi_pretrain_coverage", s.pretrain_coverage, ValidRange::between(0, 1));
