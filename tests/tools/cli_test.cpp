@@ -425,6 +425,15 @@ TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
                                 "/./in.h5" + settings),
                         "is the input file");
   EXPECT_EQ(std::filesystem::file_size(input), before);
+  // A folder in the output's place: one line, and no temporary left beside it.
+  const auto folder = directory.path() / "folder.h5";
+  std::filesystem::create_directory(folder);
+  expect_one_error_line(run_cli("logmel --input " + input.string() + " --output " + folder.string() + settings),
+                        folder.string() + ": is a directory, a file was expected");
+  EXPECT_TRUE(std::filesystem::is_empty(folder));
+  for (const auto& entry : std::filesystem::directory_iterator(directory.path())) {
+    EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
+  }
 }
 
 // A full smoke protocol on each real-data adapter's fixture tree, as a user would run it.
