@@ -87,10 +87,11 @@ for config in "${configs[@]}"; do
     if [ -n "${SETTINGS:-}" ] && [ "$SETTINGS" != "$setting_name" ]; then continue; fi
     dir=$out/$name/$setting_name
     [ -f "$dir/summary.csv" ] && continue
-    sets=()
+    sets=() resume=()
+    [ -d "$dir" ] && resume=(--resume "$dir")
     for assignment in $setting_assignments $assignments; do sets+=(--set "$assignment"); done
     echo "== $name on $setting_name: $methods ${sets[*]}" >&2
     "$bench" --methods "$methods" --dataset simtex --profile fast --seeds 1-3 --evaluate-on validation --quiet \
-      --threads "${THREADS:-2}" --out "$dir" --resume "$dir" "${sets[@]}" >/dev/null
+      --threads "${THREADS:-2}" --out "$dir" ${resume[@]+"${resume[@]}"} "${sets[@]}" >/dev/null
   done
 done
