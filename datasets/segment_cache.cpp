@@ -99,15 +99,6 @@ void check_against(const SegmentSet& s, const DatasetDescription& d, const std::
 }
 }  // namespace
 
-std::string stable_hash(const std::string& text) {
-  std::uint64_t hash = 0xcbf29ce484222325ULL;
-  for (unsigned char c : text) {
-    hash ^= c;
-    hash *= 0x100000001b3ULL;
-  }
-  return fmt::format("{:016x}", hash);
-}
-
 std::string SegmentCache::key_for(const DatasetDescription& d) {
   return stable_hash(fmt::format("format={}|name={}|source={}|segment={},{},{}", kCacheFormat, d.name, d.source,
                                  d.segment.length, d.segment.hop, d.segment.max_per_recording));

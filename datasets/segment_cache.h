@@ -4,11 +4,9 @@
 #include <string>
 
 #include "datasets/prepared_dataset.h"
+#include "datasets/stable_hash.h"
 
 namespace fscil {
-
-// 64-bit FNV-1a of a canonical parameter text, as 16 hex digits.
-std::string stable_hash(const std::string& text);
 
 // HDF5 files of segments (signals and their bookkeeping), one per dataset and segmentation.
 // Features are not stored: the front end recomputes them faster than HDF5 reads them back.

@@ -2,11 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
-#include "datasets/segment_cache.h"
+#include "datasets/stable_hash.h"
 #include "protocols/protocol_error.h"
+#include "protocols/shown_text.h"
 #include "reports/atomic_file.h"
 
 namespace fscil {
@@ -36,6 +39,24 @@ torch::Tensor outcome_rows(const std::vector<SessionOutcome>& outcomes) {
                                  o.context_ratio_mean, o.context_ratio_max});
   }
   return torch::tensor(values, torch::kDouble).view({static_cast<std::int64_t>(outcomes.size()), kOutcomeFields});
+}
+
+// Whether `rows` is what outcome_rows writes: any other shape would be read past its end, and a
+// session, class or sample count that is no whole number in range converted with undefined behaviour.
+bool readable_outcome_rows(const torch::Tensor& rows) {
+  if (rows.dim() != 2 || rows.size(1) != kOutcomeFields || rows.scalar_type() != torch::kDouble) return false;
+  const auto whole_below_power_of_two = [](double value, int bits) {
+    return value >= 0 && value < std::ldexp(1.0, bits) && value == std::floor(value);
+  };
+  const torch::Tensor contiguous = rows.contiguous();
+  const auto v = contiguous.accessor<double, 2>();
+  for (std::int64_t r = 0; r < rows.size(0); ++r) {
+    if (!whole_below_power_of_two(v[r][0], 31) || !whole_below_power_of_two(v[r][1], 31) ||
+        !whole_below_power_of_two(v[r][7], 63)) {
+      return false;
+    }
+  }
+  return true;
 }
 
 std::vector<SessionOutcome> outcomes_of(const torch::Tensor& rows) {
@@ -77,10 +98,12 @@ bool read_diagnostics(const std::string& text, std::vector<SessionOutcome>& outc
   while (std::getline(lines, line)) {
     std::istringstream fields(line);
     std::size_t session = 0;
-    std::string name;
-    double value = 0;
+    std::string name, value;
     if (!(fields >> session >> name >> value) || session >= outcomes.size()) return false;
-    outcomes[session].diagnostics[name] = value;
+    // strtod, not >>: a diverged loss is written as nan or inf, and >> refuses those and subnormals.
+    char* end = nullptr;
+    outcomes[session].diagnostics[name] = std::strtod(value.c_str(), &end);
+    if (*end != '\0') return false;
   }
   return true;
 }
@@ -113,16 +136,23 @@ void save_checkpoint(const fs::path& path, const RunCheckpoint& checkpoint) {
 RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_identity) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ProtocolError(fmt::format("{}: cannot open the checkpoint", path.string()));
+  const auto corrupt = [&] {
+    return ProtocolError(fmt::format("{}: corrupt checkpoint (truncated, altered or not a fscil-bench checkpoint); "
+                                     "delete it to start that run over", path.string()));
+  };
   std::string magic, digest;
   std::size_t length = 0;
   std::getline(in, magic);
   in >> length >> digest;
   in.get();
+  // The length comes from the file: a damaged one could ask for terabytes, so it must fit the file
+  // before the body is allocated.
+  std::error_code size_error;
+  if (magic != kMagic || !in || length > fs::file_size(path, size_error) || size_error) throw corrupt();
   std::string body(length, '\0');
-  if (magic != kMagic || !in || !in.read(body.data(), static_cast<std::streamsize>(length)) ||
-      in.peek() != std::char_traits<char>::eof() || stable_hash(body) != digest) {
-    throw ProtocolError(fmt::format("{}: corrupt checkpoint (truncated, altered or not a fscil-bench checkpoint); "
-                                    "delete it to start that run over", path.string()));
+  if (!in.read(body.data(), static_cast<std::streamsize>(length)) || in.peek() != std::char_traits<char>::eof() ||
+      stable_hash(body) != digest) {
+    throw corrupt();
   }
   RunCheckpoint checkpoint;
   try {
@@ -140,7 +170,12 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
       throw ProtocolError(fmt::format("{}: checkpoint of another run ({}), expected {}", path.string(),
                                       checkpoint.identity, expected_identity));
     }
-    checkpoint.outcomes = outcomes_of(read(archive, "outcomes"));
+    const torch::Tensor rows = read(archive, "outcomes");
+    if (!readable_outcome_rows(rows)) {
+      throw ProtocolError(fmt::format("{}: corrupt checkpoint (session results are not N x {} values with whole "
+                                      "session, class and sample counts)", path.string(), kOutcomeFields));
+    }
+    checkpoint.outcomes = outcomes_of(rows);
     if (!read_diagnostics(tensor_text(read(archive, "diagnostics")), checkpoint.outcomes)) {
       throw ProtocolError(fmt::format("{}: corrupt checkpoint (a diagnostics line names no finished session)",
                                       path.string()));
@@ -152,8 +187,12 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
     torch::serialize::InputArchive method;
     archive.read("method", method);
     for (const auto& name : method.keys()) checkpoint.method_state[name] = read(method, name);
+  } catch (const ProtocolError&) {
+    throw;
   } catch (const c10::Error& error) {
     throw ProtocolError(fmt::format("{}: corrupt checkpoint ({})", path.string(), error.what_without_backtrace()));
+  } catch (const std::exception& error) {  // LibTorch's TorchScript importer throws types of its own too
+    throw ProtocolError(fmt::format("{}: corrupt checkpoint ({})", path.string(), shown_text(error.what())));
   }
   return checkpoint;
 }

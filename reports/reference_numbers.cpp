@@ -2,8 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -18,6 +20,20 @@ namespace fscil {
 namespace {
 
 constexpr const char* kHeader = "method,dataset,profile,seed,threads,metric,expected,tolerance";
+
+// A whole number from `low` to T's largest filling the field: read as a double, a seed above 2^53
+// would round and a value beyond T's range could not be converted at all.
+template <typename T>
+T whole_number(const std::string& text, T low, const std::string& where) {
+  T value{};
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, value);
+  if (error != std::errc() || stop != end || value < low) {
+    throw ReportError(fmt::format("{}: '{}', expected a whole number from {} to {}", where, shown_text(text), low,
+                                  std::numeric_limits<T>::max()));
+  }
+  return value;
+}
 
 // metric name -> value of one run.
 std::vector<std::pair<std::string, double>> metrics_of(const RunRecord& record) {
@@ -82,8 +98,8 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
       throw ReportError(fmt::format("{}: {} fields, expected 8 ({})", where, fields.size(), kHeader));
     }
     ReferenceValue value{fields[0], fields[1], fields[2], 0, 0, fields[5], 0, 0};
-    value.seed = static_cast<std::uint64_t>(finite_number(fields[3], where + " seed"));
-    value.threads = static_cast<int>(finite_number(fields[4], where + " threads"));
+    value.seed = whole_number<std::uint64_t>(fields[3], 0, where + " seed");
+    value.threads = whole_number<int>(fields[4], 1, where + " threads");
     value.expected = finite_number(fields[6], where + " expected");
     value.tolerance = finite_number(fields[7], where + " tolerance");
     if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "protocols/shown_text.h"
@@ -24,6 +26,25 @@ constexpr int kSchemaVersion = 1;
 json number_or_null(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
 double number_from(const json& value) {
   return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
+}
+
+// A whole number that fits T: get<T>() would convert 1e300 or -1.5 with undefined behaviour.
+template <typename T>
+T whole_number(const json& value, const std::string& field, const std::string& origin) {
+  constexpr auto most = static_cast<std::uint64_t>(std::numeric_limits<T>::max());
+  bool fits = false;
+  if (value.is_number_unsigned()) {
+    fits = value.get<std::uint64_t>() <= most;
+  } else if (value.is_number_integer()) {
+    const auto number = value.get<std::int64_t>();
+    fits = number < 0 ? number >= static_cast<std::int64_t>(std::numeric_limits<T>::min())
+                      : static_cast<std::uint64_t>(number) <= most;
+  }
+  if (!fits) {
+    throw ReportError(fmt::format("{}: {} {}, expected a whole number from {} to {}", origin, field,
+                                  shown_text(value.dump()), std::numeric_limits<T>::min(), most));
+  }
+  return value.get<T>();
 }
 
 std::string safe_name(std::string text) {
@@ -90,7 +111,7 @@ std::string to_json_text(const RunRecord& record) {
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin) {
   try {
     const json document = json::parse(text);
-    if (document.at("schema").get<int>() != kSchemaVersion) {
+    if (document.at("schema") != json(kSchemaVersion)) {
       throw ReportError(fmt::format("{}: result schema {}, expected {}", origin, document.at("schema").dump(),
                                     kSchemaVersion));
     }
@@ -106,8 +127,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       }
     }
     record.profile = document.at("profile").get<std::string>();
-    record.seed = document.at("seed").get<std::uint64_t>();
-    record.threads = document.at("threads").get<int>();
+    record.seed = whole_number<std::uint64_t>(document.at("seed"), "seed", origin);
+    record.threads = whole_number<int>(document.at("threads"), "threads", origin);
     record.evaluated_on = document.value("evaluated_on", std::string("test"));
     if (record.evaluated_on != "test" && record.evaluated_on != "validation") {
       throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin,
@@ -121,35 +142,43 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.git_commit = document.at("git_commit").get<std::string>();
     record.dataset_key = document.at("dataset_key").get<std::string>();
     record.total_seconds = document.at("total_seconds").get<double>();
-    record.peak_resident_bytes = document.at("peak_resident_bytes").get<std::int64_t>();
+    record.peak_resident_bytes =
+        whole_number<std::int64_t>(document.at("peak_resident_bytes"), "peak_resident_bytes", origin);
     // Files written before replay was recorded have none: their methods kept no samples.
     if (document.contains("replay")) {
-      record.replay_samples = document.at("replay").at("samples").get<std::int64_t>();
-      record.replay_bytes = document.at("replay").at("bytes").get<std::int64_t>();
+      record.replay_samples = whole_number<std::int64_t>(document.at("replay").at("samples"), "replay samples", origin);
+      record.replay_bytes = whole_number<std::int64_t>(document.at("replay").at("bytes"), "replay bytes", origin);
     }
     if (document.contains("inference")) {
       const json& inference = document.at("inference");
-      record.inference.macs = inference.at("macs").get<std::int64_t>();
-      record.inference.parameters = inference.at("parameters").get<std::int64_t>();
-      record.inference.trainable_parameters = inference.at("trainable_parameters").get<std::int64_t>();
+      record.inference.macs = whole_number<std::int64_t>(inference.at("macs"), "inference macs", origin);
+      record.inference.parameters =
+          whole_number<std::int64_t>(inference.at("parameters"), "inference parameters", origin);
+      record.inference.trainable_parameters =
+          whole_number<std::int64_t>(inference.at("trainable_parameters"), "inference trainable_parameters", origin);
       record.inference.seconds_per_sample = inference.at("seconds_per_sample").get<double>();
-      record.inference.batch = inference.at("batch").get<std::int64_t>();
+      record.inference.batch = whole_number<std::int64_t>(inference.at("batch"), "inference batch", origin);
     }
     for (const auto& s : document.at("sessions")) {
       SessionRecord session;
-      session.session = s.at("session").get<int>();
-      session.seen_classes = s.at("seen_classes").get<int>();
+      session.session = whole_number<int>(s.at("session"), "session", origin);
+      session.seen_classes = whole_number<int>(s.at("seen_classes"), "seen_classes", origin);
       session.accuracy.all = s.at("accuracy").get<double>();
       session.accuracy.base = s.at("base_accuracy").get<double>();
       session.accuracy.novel = s.at("novel_accuracy").get<double>();
       session.accuracy.current = s.at("current_accuracy").get<double>();
       session.accuracy.harmonic = s.at("harmonic_mean").get<double>();
-      session.accuracy.samples = s.at("test_samples").get<std::int64_t>();
+      session.accuracy.samples = whole_number<std::int64_t>(s.at("test_samples"), "test_samples", origin);
       session.train_seconds = s.at("train_seconds").get<double>();
       session.test_seconds = s.at("test_seconds").get<double>();
       session.context_ratio_mean = number_from(s.at("context_ratio_mean"));
       session.context_ratio_max = number_from(s.at("context_ratio_max"));
-      if (s.contains("diagnostics")) session.diagnostics = s.at("diagnostics").get<std::map<std::string, double>>();
+      if (s.contains("diagnostics")) {
+        // NaN (a diverged loss) and infinities were written as null.
+        for (const auto& [name, value] : s.at("diagnostics").get<std::map<std::string, json>>()) {
+          session.diagnostics[name] = number_from(value);
+        }
+      }
       for (const double accuracy : {session.accuracy.all, session.accuracy.base, session.accuracy.novel,
                                     session.accuracy.current, session.accuracy.harmonic}) {
         if (!(accuracy >= 0 && accuracy <= 100)) {

@@ -10,6 +10,7 @@ packages=(
   libfftw3-dev libhdf5-dev libsndfile1-dev
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
+  clang-14 libclang-rt-14-dev llvm-14  # tests/fuzz: libFuzzer and sanitizer runtimes, llvm-symbolizer
 )
 
 as_root() {

@@ -48,10 +48,13 @@ class ClipCollector {
   explicit ClipCollector(DatasetScan& scan) : scan_(scan) {}
 
   void add(const fs::path& file, int class_index, SplitHint split, const std::string& where) {
+    std::error_code unreadable;  // a name no file system takes (too long) is not found either, not an exception
+    if (!fs::is_regular_file(file, unreadable)) {
+      throw DatasetError(fmt::format("{}: audio file {} not found", where, file.string()));
+    }
     const std::string id = fs::relative(file, scan_.root).string();
     const auto [previous, fresh] = where_of_.emplace(id, where);
     if (!fresh) throw DatasetError(fmt::format("{}: {} is already listed at {}", where, id, previous->second));
-    if (!fs::is_regular_file(file)) throw DatasetError(fmt::format("{}: audio file {} not found", where, file.string()));
     RecordingSource source;
     source.id = id;
     source.class_index = class_index;

@@ -189,7 +189,10 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
   std::string item;
   while (std::getline(items, item, ';')) {
     const fs::path file = root / item;
-    if (!fs::is_regular_file(file)) throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
+    std::error_code unreadable;  // a name no file system takes (too long) is not found either, not an exception
+    if (!fs::is_regular_file(file, unreadable)) {
+      throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
+    }
     files.push_back(file);
   }
   if (files.empty()) throw DatasetError(fmt::format("{}: empty file field", where));

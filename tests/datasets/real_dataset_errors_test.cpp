@@ -149,6 +149,14 @@ TEST_F(HaptexManifestErrors, ManifestNamingAMissingFile) {
   EXPECT_MENTIONS(message, "fabric02_1.csv not found");
 }
 
+// Found by fuzzing: a name longer than the file system takes escaped as std::filesystem_error.
+TEST_F(HaptexManifestErrors, AFileNameNoFileSystemTakesIsNotFound) {
+  replace_in(manifest(), "recordings/fabric02_1.csv,", "recordings/" + std::string(300, 'x') + ".csv,");
+  const std::string message = load_error("haptex", root.path());
+  EXPECT_MENTIONS(message, "manifest.csv:11: file ");
+  EXPECT_MENTIONS(message, " not found");
+}
+
 TEST_F(HaptexManifestErrors, ManifestRowWithAWrongColumnCount) {
   replace_in(manifest(), "fabric01_rec2\n", "fabric01_rec2,extra\n");
   EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:8: 5 fields, expected 4");
@@ -256,6 +264,12 @@ TEST_F(AudioErrors, ListedFileMissingAndListedTwice) {
   replace_in(root.path() / "librispeech_fscil_test.csv", "100/100-0099.wav", "100/100-0000.wav");
   EXPECT_MENTIONS(load_error("ls100", root.path()),
                   "librispeech_fscil_test.csv:2: 100/100-0000.wav is already listed at");
+}
+
+TEST_F(AudioErrors, AFileNameNoFileSystemTakesIsNotFound) {
+  replace_in(root.path() / "librispeech_fscil_test.csv", "100/100-0006.wav", "100/" + std::string(300, 'x') + ".wav");
+  EXPECT_MENTIONS(load_error("ls100", root.path()), "librispeech_fscil_test.csv:2: audio file");
+  EXPECT_MENTIONS(load_error("ls100", root.path()), "xxx.wav not found");
 }
 
 TEST_F(AudioErrors, MissingListAndBadLabel) {

@@ -1,5 +1,6 @@
 #include "reports/reference_numbers.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -97,6 +98,26 @@ TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
                 .find("reference.csv:1: header 'method,dataset,profile,seed,threads,metric,expected,tolerance\\x7f', "
                       "expected 'method,"),
             std::string::npos);
+}
+
+// Found by fuzzing: a seed of 2e30 was converted to an integer with undefined behaviour.
+TEST(ReferenceNumbers, SeedAndThreadsAreWholeNumbersInTheirRange) {
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "reference.csv";
+  const std::string header = "method,dataset,profile,seed,threads,metric,expected,tolerance\n";
+  std::ofstream(path) << header << "prototype,simtex-mini,smoke,2e30,2,AA,50,2\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); })
+                .find("reference.csv:2 seed: '2e30', expected a whole number from 0 to 18446744073709551615"),
+            std::string::npos);
+  for (const char* threads : {"-2", "0", "1.5", "3000000000"}) {
+    std::ofstream(path) << header << "prototype,simtex-mini,smoke,1," << threads << ",AA,50,2\n";
+    const std::string expected =
+        fmt::format("reference.csv:2 threads: '{}', expected a whole number from 1 to 2147483647", threads);
+    EXPECT_NE(message_of([&] { load_reference_csv(path); }).find(expected), std::string::npos);
+  }
+  // Seeds beyond 2^53 are read exactly, as --seeds takes them.
+  std::ofstream(path) << header << "prototype,simtex-mini,smoke,999999999999999999,2,AA,50,2\n";
+  EXPECT_EQ(load_reference_csv(path).at(0).seed, 999999999999999999u);
 }
 
 }  // namespace

@@ -69,6 +69,36 @@ TEST(RunRecord, RoundTripsThroughJson) {
   EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
 }
 
+// A diverged loss is NaN; JSON writes it as null, and the file must still read.
+TEST(RunRecord, NanDiagnosticsSurviveTheResultFile) {
+  RunRecord diverged = record_of("pits-sc", 1, {50, 40});
+  diverged.sessions[1].diagnostics = {{"session_ce_mean", std::nan("")}, {"pspc_effective_shots", 4.5}};
+  const RunRecord copy = run_record_from_json_text(to_json_text(diverged), "memory");
+  EXPECT_TRUE(std::isnan(copy.sessions[1].diagnostics.at("session_ce_mean")));
+  EXPECT_EQ(copy.sessions[1].diagnostics.at("pspc_effective_shots"), 4.5);
+}
+
+// Found by fuzzing: a count of 3e88 was converted to an integer with undefined behaviour.
+TEST(RunRecord, CountsAreWholeNumbersInRange) {
+  const std::string text = to_json_text(record_of("prototype", 1, {50, 40}));
+  for (const auto& [from, to] : {std::pair{"\"peak_resident_bytes\": 1048576", "\"peak_resident_bytes\": 3.07e88"},
+                                 {"\"threads\": 2", "\"threads\": 1.5"},
+                                 {"\"seed\": 1", "\"seed\": -1"},
+                                 {"\"test_samples\": 100", "\"test_samples\": 1e300"},
+                                 {"\"session\": 1", "\"session\": 2147483648"}}) {
+    std::string odd = text;
+    ASSERT_NE(odd.find(from), std::string::npos) << from;
+    odd.replace(odd.find(from), std::string(from).size(), to);
+    try {
+      run_record_from_json_text(odd, "odd.json");
+      ADD_FAILURE() << to << " was accepted";
+    } catch (const ReportError& error) {
+      EXPECT_NE(std::string(error.what()).find("odd.json: "), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(", expected a whole number from "), std::string::npos) << error.what();
+    }
+  }
+}
+
 TEST(RunRecord, BadFilesNameThemselves) {
   TemporaryDirectory directory;
   save_run_record(directory.path(), record_of("prototype", 1, {50, 40}));
