@@ -11,12 +11,10 @@
 #include "protocols/protocol_error.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
+#include "tests/fuzz/fuzz_torch_setup.h"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  torch::set_num_threads(1);
-  // Every LibTorch error symbolizes a C++ backtrace for its message, some 100 ms under ASan: the
-  // messages lose it, the fuzzer gains tenfold speed.
-  c10::SetStackTraceFetcher([] { return std::string(); });
+  fscil::fuzz::set_up_torch();
   return 0;
 }
 
