@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "datasets/dataset_error.h"
+#include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
 #include "protocols/shown_text.h"
@@ -48,8 +49,7 @@ class ClipCollector {
   explicit ClipCollector(DatasetScan& scan) : scan_(scan) {}
 
   void add(const fs::path& file, int class_index, SplitHint split, const std::string& where) {
-    std::error_code unreadable;  // a name no file system takes (too long) is not found either, not an exception
-    if (!fs::is_regular_file(file, unreadable)) {
+    if (!names_a_regular_file(file)) {
       throw DatasetError(fmt::format("{}: audio file {} not found", where, file.string()));
     }
     const std::string id = fs::relative(file, scan_.root).string();

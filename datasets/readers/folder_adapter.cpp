@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "datasets/dataset_error.h"
+#include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "protocols/shown_text.h"
 #include "protocols/valid_range.h"
@@ -189,8 +190,7 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
   std::string item;
   while (std::getline(items, item, ';')) {
     const fs::path file = root / item;
-    std::error_code unreadable;  // a name no file system takes (too long) is not found either, not an exception
-    if (!fs::is_regular_file(file, unreadable)) {
+    if (!names_a_regular_file(file)) {
       throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
     }
     files.push_back(file);

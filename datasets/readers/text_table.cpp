@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "datasets/dataset_error.h"
+#include "datasets/readers/regular_file.h"
 #include "protocols/shown_text.h"
 
 namespace fscil {
@@ -39,7 +40,7 @@ std::vector<std::string> split_fields(const std::string& line) {
 }
 
 std::ifstream open_or_throw(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
+  if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
   std::ifstream in(path);
   if (!in) throw DatasetError(fmt::format("{}: cannot be opened for reading", path.string()));
   return in;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "datasets/dataset_error.h"
+#include "datasets/readers/regular_file.h"
 
 namespace fscil {
 
@@ -34,7 +35,7 @@ bool header_promises_more_than_present(SNDFILE* file) {
 }  // namespace
 
 std::vector<float> read_mono_audio(const std::filesystem::path& path, double expected_rate) {
-  if (!std::filesystem::is_regular_file(path)) throw DatasetError(fmt::format("{}: no such audio file", path.string()));
+  if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such audio file", path.string()));
   SF_INFO info{};
   std::unique_ptr<SNDFILE, SndfileCloser> file(sf_open(path.c_str(), SFM_READ, &info));
   if (!file) {

@@ -8,6 +8,8 @@
 
 #include "datasets/dataset_catalog.h"
 #include "datasets/dataset_error.h"
+#include "datasets/readers/text_table.h"
+#include "datasets/readers/wav_file.h"
 #include "datasets/segment_cache.h"
 #include "protocols/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
@@ -270,6 +272,23 @@ TEST_F(AudioErrors, AFileNameNoFileSystemTakesIsNotFound) {
   replace_in(root.path() / "librispeech_fscil_test.csv", "100/100-0006.wav", "100/" + std::string(300, 'x') + ".wav");
   EXPECT_MENTIONS(load_error("ls100", root.path()), "librispeech_fscil_test.csv:2: audio file");
   EXPECT_MENTIONS(load_error("ls100", root.path()), "xxx.wav not found");
+}
+
+// The readers themselves, reached without an adapter's check first: a name no file system takes is
+// a file that is not there, not a filesystem_error.
+TEST(FileReaders, ANameNoFileSystemTakesIsNoSuchFile) {
+  TemporaryDirectory directory;
+  const fs::path too_long = directory.path() / (std::string(300, 'x') + ".csv");
+  const auto message_of = [](const auto& read) {
+    try {
+      read();
+    } catch (const DatasetError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no DatasetError");
+  };
+  EXPECT_MENTIONS(message_of([&] { read_text_table(too_long); }), "xxx.csv: no such file");
+  EXPECT_MENTIONS(message_of([&] { read_mono_audio(too_long, 16000); }), "xxx.csv: no such audio file");
 }
 
 TEST_F(AudioErrors, MissingListAndBadLabel) {
