@@ -1,6 +1,5 @@
 #include "tools/machine_info.h"
 
-#include <fmt/format.h>
 #include <unistd.h>
 
 #include <array>
@@ -8,9 +7,7 @@
 #include <memory>
 #include <thread>
 
-#ifndef FSCIL_SOURCE_DIR
-#define FSCIL_SOURCE_DIR "."
-#endif
+#include "fscil_source_commit.h"
 
 namespace fscil {
 
@@ -36,12 +33,6 @@ std::map<std::string, std::string> describe_machine() {
           {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")}};
 }
 
-std::string source_commit() {
-  const std::string git = fmt::format("git -C '{}' ", FSCIL_SOURCE_DIR);
-  const std::string commit = command_output(git + "rev-parse HEAD 2>/dev/null");
-  if (commit.empty()) return "unknown";
-  const bool dirty = !command_output(git + "status --porcelain --untracked-files=no 2>/dev/null").empty();
-  return dirty ? commit + "-dirty" : commit;
-}
+std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
 
 }  // namespace fscil

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "datasets/hdf5_file.h"
+#include "fscil_source_commit.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 
@@ -105,11 +106,17 @@ TEST(Cli, OutputThatCannotBeWrittenIsAFailure) {
 
 TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   TemporaryDirectory out;
+  // Where git sees no repository at run time, a result still names the commit its binary was built from.
+  setenv("GIT_DIR", "/nonexistent", 1);
   const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 1,2 --threads 2 "
                                     "--quiet --no-cache --out " + out.path().string());
+  unsetenv("GIT_DIR");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("| prototype |"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
+  std::ifstream result(out.path() / "results" / "prototype__simtex-mini__seed1.json");
+  const std::string record(std::istreambuf_iterator<char>(result), {});
+  EXPECT_NE(record.find(fmt::format("\"git_commit\": \"{}\"", FSCIL_SOURCE_COMMIT)), std::string::npos) << record;
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
   std::ifstream csv(out.path() / "summary.csv");
   std::string header;
