@@ -59,7 +59,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
 
   fscil::RunOptions run;
-  app.add_option("--methods", run.methods, "'all' or a comma-separated list of methods (see: fscil-bench list)");
+  app.add_option("--methods", run.methods,
+                 "'all', 'ablation' (pits-sc and the four cop-fscil variants) or a comma-separated list of methods "
+                 "(see: fscil-bench list)");
   app.add_option("--dataset", run.dataset, "dataset name (see: fscil-bench list)");
   app.add_option("--profile", run.profile, "smoke | fast | paper")->capture_default_str();
   app.add_option("--seeds", run.seeds, "seeds, e.g. 1,2,3 or 1-5")->capture_default_str();

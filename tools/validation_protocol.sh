@@ -18,26 +18,31 @@ shift 2
 
 # name | methods | --set assignments (space separated). The first of each group is the reading
 # in force before the comparison; see docs/methods.md for which one each decision kept.
-# The CPI comparisons ran in this order; each names every value it changed against the defaults
-# then in force, so they still mean the same runs now that the chosen values are the defaults.
+# The CPI comparisons ran in this order, before PITS-SC's CutMix moved after bn0 with alpha 0.8;
+# each names every value it changed against the defaults then in force, that older CutMix
+# included, so they still mean the same runs now that the chosen values are the defaults.
+older_pretraining="cutmix_alpha=1 cutmix_space=raw"
 first_view="cpi_global_bias=0.5 cpi_channel_bias=0.3 cpi_tilt=0.5 cpi_noise=0.1"
 half_view="cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
-before="cpi_kept=query $first_view"
+before="$older_pretraining cpi_kept=query $first_view"
 cop_fscil_configs=(
-  "pits-sc|pits-sc|"
+  "pits-sc-older-pretraining|pits-sc|$older_pretraining"
   "cpi-legacy|cop-fscil/cpi|$before cpi_space=raw cpi_distance=raw cpi_references=same"
   "cpi|cop-fscil/cpi|$before"
   "cpi-raw|cop-fscil/cpi|$before cpi_space=raw"
   "cpi-guarded|cop-fscil/cpi|$before cpi_bn_statistics=guarded"
   "cpi-reestimate|cop-fscil/cpi|$before cpi_bn_statistics=reestimate"
-  "cpi-kept-clean|cop-fscil/cpi|$first_view cpi_kept=clean"
-  "cpi-kept-split|cop-fscil/cpi|$first_view cpi_kept=split"
+  "cpi-kept-clean|cop-fscil/cpi|$older_pretraining $first_view cpi_kept=clean"
+  "cpi-kept-split|cop-fscil/cpi|$older_pretraining $first_view cpi_kept=split"
   "cpi-distance-raw|cop-fscil/cpi|$before cpi_distance=raw"
   "cpi-alpha-0.5|cop-fscil/cpi|$before cpi_mix_alpha=0.5"
-  "cpi-view-half|cop-fscil/cpi|cpi_kept=query $half_view"
-  "cpi-kept-clean-alpha-0.5|cop-fscil/cpi|$first_view cpi_kept=clean cpi_mix_alpha=0.5"
-  "cpi-kept-clean-view-half|cop-fscil/cpi|cpi_kept=clean $half_view"
-  "cpi-kept-clean-view-quarter|cop-fscil/cpi|cpi_kept=clean cpi_global_bias=0.125 cpi_channel_bias=0.075 cpi_tilt=0.125 cpi_noise=0.025"
+  "cpi-view-half|cop-fscil/cpi|$older_pretraining cpi_kept=query $half_view"
+  "cpi-kept-clean-alpha-0.5|cop-fscil/cpi|$older_pretraining $first_view cpi_kept=clean cpi_mix_alpha=0.5"
+  "cpi-kept-clean-view-half|cop-fscil/cpi|$older_pretraining cpi_kept=clean $half_view"
+  "cpi-kept-clean-view-quarter|cop-fscil/cpi|$older_pretraining cpi_kept=clean cpi_global_bias=0.125 cpi_channel_bias=0.075 cpi_tilt=0.125 cpi_noise=0.025"
+  # The full method's readings, with today's pretraining; pits-sc and CPI alone again beside them.
+  "pits-sc|pits-sc|"
+  "cpi-defaults|cop-fscil/cpi|"
   "full|cop-fscil|"
   "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
   "full-pic-normalised|cop-fscil|pic_space=normalised"
