@@ -92,6 +92,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"parameters", record.parameters},
                          {"protocol_parameters", record.protocol_parameters},
                          {"machine", record.machine},
+                         {"version", record.version},
                          {"git_commit", record.git_commit},
                          {"dataset_key", record.dataset_key},
                          {"sessions", sessions},
@@ -139,6 +140,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       record.protocol_parameters = document.at("protocol_parameters").get<std::map<std::string, std::string>>();
     }
     record.machine = document.at("machine").get<std::map<std::string, std::string>>();
+    record.version = document.value("version", std::string());
     record.git_commit = document.at("git_commit").get<std::string>();
     record.dataset_key = document.at("dataset_key").get<std::string>();
     record.total_seconds = document.at("total_seconds").get<double>();

@@ -50,8 +50,9 @@ struct RunRecord {
   // strength, ...): runs of different methods compare only when these agree. Empty in files
   // written before it was recorded.
   std::map<std::string, std::string> protocol_parameters;
-  std::map<std::string, std::string> machine;     // host, cores, compiler, torch version
-  std::string git_commit;
+  std::map<std::string, std::string> machine;     // host, cores, CPU, compiler, library versions
+  std::string version;     // the harness's release; empty in files written before it was recorded
+  std::string git_commit;  // the commit the binary was built from
   std::string dataset_key;  // cache key: which exact data was used
   std::vector<SessionRecord> sessions;
   double total_seconds = 0;

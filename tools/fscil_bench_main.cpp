@@ -17,6 +17,7 @@
 #include "reports/run_record.h"
 #include "tools/cli_range.h"
 #include "tools/logmel_command.h"
+#include "tools/machine_info.h"
 #include "tools/reference_command.h"
 #include "tools/report_writer.h"
 #include "tools/run_command.h"
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
   fscil::keep_freed_memory_for_reuse();
   CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
   app.set_help_all_flag("--help-all", "Help for every subcommand");
+  app.set_version_flag("--version", fscil::version_text, "Release, commit and library versions, then exit");
   app.require_subcommand(0, 1);
 
   fscil::RunOptions run;

@@ -1,5 +1,8 @@
 #include "tools/machine_info.h"
 
+#include <dlfcn.h>
+#include <fmt/format.h>
+#include <torch/version.h>
 #include <unistd.h>
 
 #include <array>
@@ -7,7 +10,8 @@
 #include <memory>
 #include <thread>
 
-#include "fscil_source_commit.h"
+#include "datasets/library_versions.h"
+#include "fscil_build_info.h"
 
 namespace fscil {
 
@@ -21,18 +25,44 @@ std::string command_output(const std::string& command) {
   while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
   return output;
 }
+
+// OpenBLAS names its version and build in openblas_get_config(); the BLAS behind libblas.so.3 is
+// chosen by Debian's alternatives at run time, so the symbol is looked up, not linked.
+std::string openblas_config() {
+  using GetConfig = const char* (*)();
+  const auto get_config = reinterpret_cast<GetConfig>(dlsym(RTLD_DEFAULT, "openblas_get_config"));
+  return get_config != nullptr ? get_config() : "not loaded (another BLAS)";
+}
 }  // namespace
+
+std::map<std::string, std::string> library_versions() {
+  auto versions = data_library_versions();
+  versions["libtorch"] = TORCH_VERSION;
+  versions["openblas"] = openblas_config();
+  return versions;
+}
 
 std::map<std::string, std::string> describe_machine() {
   std::array<char, 256> host{};
   gethostname(host.data(), host.size() - 1);
-  return {{"host", host.data()},
-          {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
-          {"compiler", __VERSION__},
-          {"cpu", command_output("grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//'")},
-          {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")}};
+  auto machine = library_versions();
+  machine.insert(
+      {{"host", host.data()},
+       {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
+       {"compiler", __VERSION__},
+       {"cpu", command_output("grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//'")},
+       {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")}});
+  return machine;
 }
 
+std::string harness_version() { return FSCIL_VERSION; }
+
 std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
+
+std::string version_text() {
+  std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());
+  for (const auto& [library, version] : library_versions()) text += fmt::format("  {:<11}{}\n", library, version);
+  return text + fmt::format("  {:<11}GCC {}", "compiler", __VERSION__);
+}
 
 }  // namespace fscil

@@ -273,6 +273,7 @@ void run_benchmark(const RunOptions& options) {
       const ModelCost cost = method->inference_cost(input);
 
       record.machine = machine;
+      record.version = harness_version();
       record.git_commit = commit;
       record.dataset_key = dataset.cache_key;
       for (const auto& outcome : outcomes) {

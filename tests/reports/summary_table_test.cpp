@@ -20,7 +20,8 @@ RunRecord record_of(const std::string& method, std::uint64_t seed, std::vector<d
   record.seed = seed;
   record.threads = 2;
   record.parameters = {{"pretrain_epochs", "8"}};
-  record.machine = {{"host", "test"}};
+  record.machine = {{"host", "test"}, {"libtorch", "1.13.0"}};
+  record.version = "0.1.0";
   record.git_commit = "abc";
   record.dataset_key = "0123";
   for (std::size_t s = 0; s < accuracies.size(); ++s) {
@@ -44,6 +45,9 @@ TEST(RunRecord, RoundTripsThroughJson) {
   EXPECT_EQ(copy.method, original.method);
   EXPECT_EQ(copy.seed, 3u);
   EXPECT_EQ(copy.parameters, original.parameters);
+  EXPECT_EQ(copy.machine, original.machine);
+  EXPECT_EQ(copy.version, "0.1.0");
+  EXPECT_EQ(copy.git_commit, "abc");
   EXPECT_EQ(copy.session_accuracies(), original.session_accuracies());
   EXPECT_DOUBLE_EQ(copy.sessions[1].accuracy.base, 81.5);
   EXPECT_EQ(copy.peak_resident_bytes, 1 << 20);

@@ -16,7 +16,7 @@
 #include <string>
 
 #include "datasets/hdf5_file.h"
-#include "fscil_source_commit.h"
+#include "fscil_build_info.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 
@@ -53,6 +53,17 @@ TEST(Cli, ListsMethodsDatasetsAndProfiles) {
   EXPECT_EQ(result.exit_code, 0);
   for (const char* name : {"prototype", "simtex", "simtex-lmt", "simtex-mini", "lmt108", "smoke", "fast", "paper"}) {
     EXPECT_NE(result.output.find(name), std::string::npos) << name;
+  }
+}
+
+TEST(Cli, VersionNamesTheReleaseTheCommitAndTheLibraries) {
+  const CommandResult version = run_cli("--version");
+  EXPECT_EQ(version.exit_code, 0) << version.output;
+  EXPECT_EQ(version.output.rfind(fmt::format("fscil-bench {} (commit {})\n", FSCIL_VERSION, FSCIL_SOURCE_COMMIT), 0), 0u)
+      << version.output;
+  for (const char* library : {"  libtorch   1.", "  fftw       fftw-3.", "  hdf5       1.", "  libsndfile libsndfile-1.",
+                              "  openblas   OpenBLAS ", "  compiler   GCC "}) {
+    EXPECT_NE(version.output.find(library), std::string::npos) << library << " in\n" << version.output;
   }
 }
 
@@ -117,6 +128,8 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   std::ifstream result(out.path() / "results" / "prototype__simtex-mini__seed1.json");
   const std::string record(std::istreambuf_iterator<char>(result), {});
   EXPECT_NE(record.find(fmt::format("\"git_commit\": \"{}\"", FSCIL_SOURCE_COMMIT)), std::string::npos) << record;
+  EXPECT_NE(record.find(fmt::format("\"version\": \"{}\"", FSCIL_VERSION)), std::string::npos) << record;
+  EXPECT_NE(record.find("\"libtorch\": \"1."), std::string::npos) << record;
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
   std::ifstream csv(out.path() / "summary.csv");
   std::string header;
