@@ -62,7 +62,7 @@ std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
 std::string version_text() {
   std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());
   for (const auto& [library, version] : library_versions()) text += fmt::format("  {:<11}{}\n", library, version);
-  return text + fmt::format("  {:<11}GCC {}", "compiler", __VERSION__);
+  return text + fmt::format("  {:<11}{}", "compiler", __VERSION__);
 }
 
 }  // namespace fscil

@@ -41,7 +41,7 @@ cop_fscil_configs=(
   "cpi-kept-clean-view-half|cop-fscil/cpi|$older_pretraining cpi_kept=clean $half_view"
   "cpi-kept-clean-view-quarter|cop-fscil/cpi|$older_pretraining cpi_kept=clean cpi_global_bias=0.125 cpi_channel_bias=0.075 cpi_tilt=0.125 cpi_noise=0.025"
   # The full method's readings, with today's pretraining; pits-sc and CPI alone again beside them.
-  "pits-sc|pits-sc|"
+  "pits-sc-today|pits-sc|"
   "cpi-defaults|cop-fscil/cpi|"
   "full|cop-fscil|"
   "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"

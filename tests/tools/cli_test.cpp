@@ -28,8 +28,9 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-CommandResult run_cli(const std::string& arguments) {
-  const std::string command = std::string(FSCIL_BENCH_EXECUTABLE) + " " + arguments + " 2>&1";
+// `environment`: assignments the shell puts before the command, for this run only.
+CommandResult run_cli(const std::string& arguments, const std::string& environment = "") {
+  const std::string command = environment + " " + std::string(FSCIL_BENCH_EXECUTABLE) + " " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   std::array<char, 512> buffer{};
@@ -62,7 +63,7 @@ TEST(Cli, VersionNamesTheReleaseTheCommitAndTheLibraries) {
   EXPECT_EQ(version.output.rfind(fmt::format("fscil-bench {} (commit {})\n", FSCIL_VERSION, FSCIL_SOURCE_COMMIT), 0), 0u)
       << version.output;
   for (const char* library : {"  libtorch   1.", "  fftw       fftw-3.", "  hdf5       1.", "  libsndfile libsndfile-1.",
-                              "  openblas   OpenBLAS ", "  compiler   GCC "}) {
+                              "  openblas   ", "  compiler   "}) {
     EXPECT_NE(version.output.find(library), std::string::npos) << library << " in\n" << version.output;
   }
 }
@@ -118,10 +119,9 @@ TEST(Cli, OutputThatCannotBeWrittenIsAFailure) {
 TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   TemporaryDirectory out;
   // Where git sees no repository at run time, a result still names the commit its binary was built from.
-  setenv("GIT_DIR", "/nonexistent", 1);
   const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 1,2 --threads 2 "
-                                    "--quiet --no-cache --out " + out.path().string());
-  unsetenv("GIT_DIR");
+                                    "--quiet --no-cache --out " + out.path().string(),
+                                    "GIT_DIR=/nonexistent");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("| prototype |"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
