@@ -33,6 +33,14 @@ std::string openblas_config() {
   const auto get_config = reinterpret_cast<GetConfig>(dlsym(RTLD_DEFAULT, "openblas_get_config"));
   return get_config != nullptr ? get_config() : "not loaded (another BLAS)";
 }
+
+std::string compiler_version() {
+#if defined(__clang__)
+  return "Clang " __clang_version__;
+#else
+  return "GCC " __VERSION__;
+#endif
+}
 }  // namespace
 
 std::map<std::string, std::string> library_versions() {
@@ -49,7 +57,7 @@ std::map<std::string, std::string> describe_machine() {
   machine.insert(
       {{"host", host.data()},
        {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
-       {"compiler", __VERSION__},
+       {"compiler", compiler_version()},
        {"cpu", command_output("grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//'")},
        {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")}});
   return machine;
@@ -62,7 +70,7 @@ std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
 std::string version_text() {
   std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());
   for (const auto& [library, version] : library_versions()) text += fmt::format("  {:<11}{}\n", library, version);
-  return text + fmt::format("  {:<11}{}", "compiler", __VERSION__);
+  return text + fmt::format("  {:<11}{}", "compiler", compiler_version());
 }
 
 }  // namespace fscil
