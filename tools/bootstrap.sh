@@ -3,6 +3,7 @@
 # system BLAS, then configures and builds Release into build/. Safe to run again.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source tools/debian_packages.sh
 
 packages=(
   build-essential cmake git pkg-config ccache
@@ -13,21 +14,7 @@ packages=(
   clang-14 libclang-rt-14-dev llvm-14  # tests/fuzz: libFuzzer and sanitizer runtimes, llvm-symbolizer
 )
 
-as_root() {
-  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
-}
-
-missing=()
-for package in "${packages[@]}"; do
-  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
-    missing+=("$package")
-  fi
-done
-if [ "${#missing[@]}" -gt 0 ]; then
-  echo "bootstrap: installing ${missing[*]}"
-  as_root apt-get update -qq
-  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
-fi
+install_missing_packages "${packages[@]}"
 
 # Debian links LibTorch against the reference BLAS (~2 GFLOP/s); OpenBLAS gives ~100x on matmul.
 arch_dir=/usr/lib/x86_64-linux-gnu
