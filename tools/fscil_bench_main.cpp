@@ -76,8 +76,9 @@ int main(int argc, char** argv) {
                  "continue the interrupted command whose --out was DIR (give the same options): finished runs are "
                  "kept, a run stopped mid-way continues from its last session checkpoint");
   app.add_option("--data-root", run.data_root, "root folder of a real dataset download");
-  app.add_option("--cache-dir", run.cache_dir, "segment cache folder (default: ~/.cache/fscil-bench)");
-  app.add_flag("--no-cache", run.no_cache, "neither read nor write the segment cache");
+  app.add_option("--cache-dir", run.cache_dir, "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)");
+  app.add_flag("--no-cache", run.no_cache, "neither read nor write either cache");
+  app.add_flag("--no-stage-cache", run.no_stage_cache, "train every base session, even one the cache holds for exactly these inputs");
   app.add_option("--features", run.features,
                  "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the "
                  "signals (auto: in memory up to 1 GiB)")->capture_default_str();

@@ -7,10 +7,13 @@
 
 #include <array>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <thread>
 
 #include "datasets/library_versions.h"
+#include "datasets/stable_hash.h"
 #include "fscil_build_info.h"
 
 namespace fscil {
@@ -66,6 +69,18 @@ std::map<std::string, std::string> describe_machine() {
 std::string harness_version() { return FSCIL_VERSION; }
 
 std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
+
+std::string code_digest() {
+  static const std::string digest = [] {
+    std::ifstream executable("/proc/self/exe", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(executable)), std::istreambuf_iterator<char>());
+    if (!executable.good() && !executable.eof()) return std::string();
+    std::string libraries;
+    for (const auto& [library, version] : library_versions()) libraries += library + "=" + version + ";";
+    return stable_hash(bytes) + "+" + stable_hash(libraries);
+  }();
+  return digest;
+}
 
 std::string version_text() {
   std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());

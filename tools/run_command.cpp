@@ -19,6 +19,7 @@
 #include "protocols/protocol_error.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
+#include "protocols/stage_cache.h"
 #include "protocols/session_schedule.h"
 #include "reports/comparable_runs.h"
 #include "tools/machine_info.h"
@@ -36,6 +37,10 @@ fs::path default_cache_dir() {
   if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg != nullptr && *xdg != '\0') return fs::path(xdg) / "fscil-bench";
   if (const char* home = std::getenv("HOME"); home != nullptr && *home != '\0') return fs::path(home) / ".cache" / "fscil-bench";
   return fs::temp_directory_path() / "fscil-bench-cache";
+}
+
+fs::path cache_folder(const RunOptions& options) {
+  return options.cache_dir.empty() ? default_cache_dir() : fs::path(options.cache_dir);
 }
 
 ParameterSet base_parameters(const RunOptions& options) {
@@ -140,7 +145,7 @@ void run_benchmark(const RunOptions& options) {
 
   DatasetRequest request;
   request.data_root = options.data_root;
-  request.cache_dir = options.no_cache ? fs::path() : (options.cache_dir.empty() ? default_cache_dir() : fs::path(options.cache_dir));
+  request.cache_dir = options.no_cache ? fs::path() : cache_folder(options);
   request.threads = threads;
   request.features = parse_feature_storage(options.features);
   ParameterSet dataset_params = params;
@@ -195,6 +200,9 @@ void run_benchmark(const RunOptions& options) {
 
   const auto machine = describe_machine();
   const std::string commit = source_commit();
+  const std::string code = code_digest();
+  const bool stage_caching = !options.no_cache && !options.no_stage_cache && !code.empty();
+  const StageCache stage_cache(cache_folder(options) / "stages");
   std::vector<RunRecord> records;
   // Per (shared base key, seed): the last method that trained or inherited that base.
   struct TrainedBase {
@@ -241,6 +249,11 @@ void run_benchmark(const RunOptions& options) {
       std::string base_trained_by;
       SessionCheckpoints checkpoints;
       double seconds_before = 0;
+      // Everything that shapes this run's base session, for the stage cache.
+      const std::string base_identity = base_stage_identity(
+          {code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key, seeds[s], threads, evaluation,
+           run_params.used(), &schedules[s]});
+      bool base_from_cache = false;
       if (options.resume && fs::exists(checkpoint_file)) {
         RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);
         describe_protocol(context, dataset, schedules[s]);
@@ -262,10 +275,36 @@ void run_benchmark(const RunOptions& options) {
         inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics};
         base_trained_by = found->second.trained_by;
         progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
+      } else if (stage_caching) {
+        std::string dropped;
+        if (std::optional<RunCheckpoint> cached = stage_cache.find(base_identity, dropped)) {
+          describe_protocol(context, dataset, schedules[s]);
+          try {
+            method->restore_state(cached->method_state, context);
+          } catch (const MethodError& error) {
+            throw ProtocolError(fmt::format("{}: cached base does not fit {} ({}); remove it or run with --no-stage-cache",
+                                            stage_cache.file_of(base_identity).string(), method_names[m], error.what()));
+          }
+          context.generator = cached->generator;
+          restore_torch_random_state(cached->torch_random_state);
+          checkpoints.finished = std::move(cached->outcomes);
+          base_from_cache = true;
+          progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
+                                    stage_cache.file_of(base_identity).string(), checkpoints.finished.front().train_seconds));
+        } else if (!dropped.empty()) {
+          progress.note(fmt::format("stage cache entry dropped, the base is trained again: {}", dropped));
+        }
       }
       checkpoints.after_session = [&](const std::vector<SessionOutcome>& so_far) {
-        save_checkpoint(checkpoint_file, {identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
-                                          context.generator, torch_random_state()});
+        const RunCheckpoint now{identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
+                                context.generator, torch_random_state()};
+        save_checkpoint(checkpoint_file, now);
+        if (so_far.size() != 1 || !stage_caching || base_from_cache) return;
+        try {
+          stage_cache.store(base_identity, now);
+        } catch (const std::exception& error) {  // a cache that cannot be written costs time, not the run
+          progress.note(fmt::format("stage cache not written: {}", error.what()));
+        }
       };
       const auto outcomes =
           run_sessions(*method, dataset, schedules[s], context, evaluation, inherited_base, checkpoints);
@@ -289,6 +328,7 @@ void run_benchmark(const RunOptions& options) {
       record.replay_samples = replay.samples;
       record.replay_bytes = replay.bytes;
       if (!base_trained_by.empty()) record.parameters["base_training"] = "shared with " + base_trained_by;
+      if (base_from_cache) record.parameters["base_training"] = "from the stage cache";
       save_run_record(options.out, record);
       std::error_code ignored;
       fs::remove(checkpoint_file, ignored);  // the result file now holds everything

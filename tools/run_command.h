@@ -14,7 +14,8 @@ struct RunOptions {
   bool resume = false;  // continue the run whose --out this is: keep finished runs, continue checkpoints
   std::string data_root;
   std::string cache_dir;  // empty = the user cache directory
-  bool no_cache = false;
+  bool no_cache = false;        // neither cache: segments nor trained base sessions
+  bool no_stage_cache = false;  // train every base session here (protocols/stage_cache.h)
   std::string features = "auto";  // auto | memory | on-demand (datasets/dataset_catalog.h)
   std::string split_mode = "recording";
   std::string class_order = "natural";

@@ -198,6 +198,74 @@ TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
             std::string::npos);
 }
 
+// Every score of a result file (accuracies all/base/novel/current/harmonic, context ratios), not
+// its timings.
+std::string scores_in(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, scores;
+  while (std::getline(in, line)) {
+    if (line.find("accuracy\"") != std::string::npos || line.find("\"harmonic_mean\"") != std::string::npos ||
+        line.find("\"context_ratio_") != std::string::npos) {
+      scores += line;
+    }
+  }
+  return scores;
+}
+
+std::size_t files_in(const std::filesystem::path& folder) {
+  if (!std::filesystem::is_directory(folder)) return 0;
+  const std::filesystem::directory_iterator entries(folder);
+  return static_cast<std::size_t>(std::distance(begin(entries), end(entries)));
+}
+
+TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodParameterMissesIt) {
+  TemporaryDirectory cache, cold, warm, sweep_cell, other_lr, uncached, after_damage;
+  const auto stages = cache.path() / "stages";
+  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --threads 2 --cache-dir " +
+                             cache.path().string() + " --out ";
+  const auto result = [](const TemporaryDirectory& out) { return out.path() / "results" / "prototype__simtex-mini__seed1.json"; };
+  constexpr const char* kHit = "base session from the stage cache";
+
+  const CommandResult first = run_cli(common + cold.path().string());
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  EXPECT_EQ(first.output.find(kHit), std::string::npos);
+  ASSERT_EQ(files_in(stages), 1u);
+  const std::string trained = scores_in(result(cold));
+  EXPECT_EQ(std::count(trained.begin(), trained.end(), ':'), 3 * 7);  // 3 sessions x 7 scores
+
+  const CommandResult second = run_cli(common + warm.path().string());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  EXPECT_NE(second.output.find(kHit), std::string::npos) << second.output;
+  EXPECT_EQ(scores_in(result(warm)), trained);
+  std::ifstream record(result(warm));
+  EXPECT_NE(std::string(std::istreambuf_iterator<char>(record), {}).find("\"base_training\": \"from the stage cache\""),
+            std::string::npos);
+
+  // A protocol value the base never sees (the novel classes' shots) shares it; a method's own does not.
+  const CommandResult cell = run_cli(common + sweep_cell.path().string() + " --set shot=3");
+  ASSERT_EQ(cell.exit_code, 0) << cell.output;
+  EXPECT_NE(cell.output.find(kHit), std::string::npos) << cell.output;
+  const CommandResult changed = run_cli(common + other_lr.path().string() + " --set pretrain_lr=0.05");
+  ASSERT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_EQ(changed.output.find(kHit), std::string::npos) << changed.output;
+  EXPECT_EQ(files_in(stages), 2u);
+  EXPECT_NE(scores_in(result(other_lr)), trained);
+
+  const CommandResult off = run_cli(common + uncached.path().string() + " --no-stage-cache");
+  ASSERT_EQ(off.exit_code, 0) << off.output;
+  EXPECT_EQ(off.output.find(kHit), std::string::npos);
+  EXPECT_EQ(scores_in(result(uncached)), trained);
+
+  // A damaged entry is dropped and the base trained again, to the same scores.
+  for (const auto& entry : std::filesystem::directory_iterator(stages)) {
+    std::filesystem::resize_file(entry.path(), std::filesystem::file_size(entry.path()) - 100);
+  }
+  const CommandResult damaged = run_cli(common + after_damage.path().string());
+  ASSERT_EQ(damaged.exit_code, 0) << damaged.output;
+  EXPECT_NE(damaged.output.find("stage cache entry dropped, the base is trained again"), std::string::npos) << damaged.output;
+  EXPECT_EQ(scores_in(result(after_damage)), trained);
+}
+
 TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {
   TemporaryDirectory out, test_out;
   const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";

@@ -1,0 +1,69 @@
+#include "protocols/stage_cache.h"
+
+#include <fmt/format.h>
+
+#include "datasets/stable_hash.h"
+#include "protocols/protocol_error.h"
+
+namespace fscil {
+
+namespace {
+
+// Segments with their protocol labels, as one text.
+std::string segments_text(const SessionSchedule& schedule, const std::vector<std::int64_t>& segments) {
+  std::string text;
+  for (std::int64_t segment : segments) text += fmt::format("{}:{},", segment, schedule.label[segment]);
+  return text;
+}
+
+}  // namespace
+
+std::string base_stage_identity(const BaseStageInputs& inputs) {
+  const SessionSchedule& schedule = *inputs.schedule;
+  std::string parameters;
+  for (const auto& [key, value] : inputs.method_parameters) parameters += key + "=" + value + ";";
+  // Session 0 scores the base classes' part of the scored split.
+  std::vector<std::int64_t> scored;
+  for (std::int64_t segment : schedule.scored_segments(inputs.scored)) {
+    if (schedule.label[segment] < schedule.plan.base_classes) scored.push_back(segment);
+  }
+  return fmt::format(
+      "base stage: code={} method={} data={} seed={} threads={} classes={}/{} train={} validation={} scored={}:{} "
+      "parameters={}",
+      inputs.code, inputs.method_base, inputs.dataset_key, inputs.seed, inputs.threads, schedule.plan.base_classes,
+      schedule.plan.total_classes(), stable_hash(segments_text(schedule, schedule.train.front())),
+      stable_hash(segments_text(schedule, schedule.validation)), to_string(inputs.scored),
+      stable_hash(segments_text(schedule, scored)), stable_hash(parameters));
+}
+
+std::filesystem::path StageCache::file_of(const std::string& identity) const {
+  return folder_ / fmt::format("base-{}.ckpt", stable_hash(identity));
+}
+
+std::optional<RunCheckpoint> StageCache::find(const std::string& identity, std::string& dropped) const {
+  const std::filesystem::path file = file_of(identity);
+  std::error_code missing;
+  if (!std::filesystem::is_regular_file(file, missing)) return std::nullopt;
+  try {
+    RunCheckpoint checkpoint = load_checkpoint(file, identity);
+    if (checkpoint.outcomes.size() == 1) return checkpoint;
+    dropped = fmt::format("{}: holds {} sessions, expected the base session only", file.string(), checkpoint.outcomes.size());
+  } catch (const ProtocolError& error) {
+    dropped = error.what();
+  }
+  std::error_code ignored;
+  std::filesystem::remove(file, ignored);
+  return std::nullopt;
+}
+
+void StageCache::store(const std::string& identity, const RunCheckpoint& checkpoint) const {
+  const std::filesystem::path file = file_of(identity);
+  std::error_code ignored;
+  if (std::filesystem::exists(file, ignored)) return;
+  std::filesystem::create_directories(folder_);
+  RunCheckpoint entry = checkpoint;
+  entry.identity = identity;
+  save_checkpoint(file, entry);
+}
+
+}  // namespace fscil

@@ -1,0 +1,48 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+
+#include "protocols/run_checkpoint.h"
+#include "protocols/session_schedule.h"
+
+namespace fscil {
+
+// Everything that shapes a trained base session and its session-0 score.
+struct BaseStageInputs {
+  std::string code;         // the executable's digest: any change to the code is another base
+  std::string method_base;  // Method::shared_base_key(), or the method's name when it shares none
+  std::string dataset_key;  // the prepared segments (PreparedDataset::cache_key)
+  std::uint64_t seed = 0;
+  int threads = 0;
+  EvaluationSplit scored = EvaluationSplit::test;
+  std::map<std::string, std::string> method_parameters;  // every value the method read
+  const SessionSchedule* schedule = nullptr;             // its base session, validation and session-0 scoring
+};
+
+// One line naming those inputs: the identity a cached base is filed and checked under.
+std::string base_stage_identity(const BaseStageInputs& inputs);
+
+// Base sessions trained once and reused (`--no-stage-cache` turns it off): the run checkpoint
+// after session 0 (protocols/run_checkpoint.h), filed in FOLDER under a digest of its identity.
+// A run, variant, sweep cell or Slurm task whose base has the same identity continues from it
+// as `--resume` continues from a run's own checkpoint, so its numbers are those of a run that
+// trained its base itself.
+class StageCache {
+ public:
+  explicit StageCache(std::filesystem::path folder) : folder_(std::move(folder)) {}
+
+  // The cached base of `identity`, if there is one. An entry that cannot be read is removed
+  // (the base is trained again) and `dropped` says why.
+  std::optional<RunCheckpoint> find(const std::string& identity, std::string& dropped) const;
+  // Files `checkpoint` (whole, or not at all) unless an entry for `identity` exists.
+  void store(const std::string& identity, const RunCheckpoint& checkpoint) const;
+  std::filesystem::path file_of(const std::string& identity) const;
+
+ private:
+  std::filesystem::path folder_;
+};
+
+}  // namespace fscil
