@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,11 @@ class Method {
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
   virtual ReplayFootprint replay_footprint() const { return {}; }
+  // Parameters this method reads only after the base session (a session's fine-tuning, PSPC): a
+  // base's identity in the stage cache leaves them out, so a sweep over one reuses the base.
+  // tests/methods/session_only_parameters_test.cpp trains a base with each changed and requires
+  // the same state to the bit.
+  virtual std::set<std::string> session_only_parameters() const { return {}; }
   // Variants that differ only after the base session return the same non-empty key (for the same
   // hyper-parameters); the runner then trains the base once per seed and hands it on.
   virtual std::string shared_base_key() const { return {}; }

@@ -250,9 +250,11 @@ void run_benchmark(const RunOptions& options) {
       SessionCheckpoints checkpoints;
       double seconds_before = 0;
       // Everything that shapes this run's base session, for the stage cache.
+      std::map<std::string, std::string> base_parameters = run_params.used();
+      for (const std::string& key : method->session_only_parameters()) base_parameters.erase(key);
       const std::string base_identity = base_stage_identity(
           {code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key, seeds[s], threads, evaluation,
-           run_params.used(), &schedules[s]});
+           base_parameters, &schedules[s]});
       bool base_from_cache = false;
       if (options.resume && fs::exists(checkpoint_file)) {
         RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);

@@ -232,6 +232,12 @@ void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
   base_state_ = std::move(state);
 }
 
+std::set<std::string> CopFscilMethod::session_only_parameters() const {
+  std::set<std::string> keys = PitsScMethod::session_only_parameters();
+  keys.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
+  return keys;
+}
+
 bool CopFscilMethod::continue_from_base(Method& trained, RunContext& context) {
   auto* source = dynamic_cast<CopFscilMethod*>(&trained);
   if (source == nullptr || source->base_state_ == nullptr || source->shared_base_key() != shared_base_key()) return false;

@@ -25,6 +25,7 @@ class CopFscilMethod : public PitsScMethod {
   // cop-fscil/cpi and cop-fscil/cpi+pspc share their base, as do cop-fscil/cpi+pcqa and cop-fscil.
   std::string shared_base_key() const override { return components_.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa"; }
   bool continue_from_base(Method& trained, RunContext& context) override;
+  std::set<std::string> session_only_parameters() const override;
   torch::Tensor embed(const torch::Tensor& features) override;
   ModelCost inference_cost(const InputShape& input) const override;
   MethodState save_state() const override;

@@ -262,6 +262,12 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
                   context, fmt::format("session {}", support.session));
 }
 
+std::set<std::string> OrcoMethod::session_only_parameters() const {
+  return {"orco_session_epochs",   "orco_session_lr",       "orco_session_batch",   "orco_session_warmup",
+          "orco_session_stop",     "orco_session_check",    "orco_session_patience", "orco_novel_ce_weight",
+          "orco_base_ce_weight",   "orco_session_orthogonality"};
+}
+
 MethodState OrcoMethod::save_state() const {
   std::vector<std::uint8_t> taken(target_taken_.begin(), target_taken_.end());
   MethodState state{{"base_classes", torch::tensor(base_classes_)},

@@ -24,6 +24,7 @@ class OrcoMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  std::set<std::string> session_only_parameters() const override;
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;
   ReplayFootprint replay_footprint() const override { return {memory_.samples(), memory_.bytes()}; }

@@ -1,0 +1,102 @@
+// What a method declares as read only after the base session (Method::session_only_parameters,
+// left out of a base's stage-cache identity) really leaves the base untouched: a base trained
+// with each such value changed ends in the same state, to the bit, with the same random state.
+#include <gtest/gtest.h>
+
+#include <map>
+
+#include "methods/common/torch_random_state.h"
+#include "methods/method_registry.h"
+#include "protocols/parameter_set.h"
+#include "tests/methods/tiny_base_session.h"
+
+namespace fscil {
+namespace {
+
+using Values = std::map<std::string, std::string>;
+
+struct BaseOutcome {
+  MethodState state;
+  std::mt19937_64 generator;
+  torch::Tensor torch_state;
+};
+
+BaseOutcome train_base(const std::string& method_name, const Values& values) {
+  ParameterSet params;
+  for (const auto& [key, value] : values) params.set(key, value);
+  torch::manual_seed(5);
+  const std::unique_ptr<Method> method = create_method(method_name, params);
+  RunContext context = tiny_context(5);
+  method->train_base(tiny_base(), context);
+  return {method->save_state(), context.generator, torch_random_state()};
+}
+
+void expect_same_base(const BaseOutcome& expected, const BaseOutcome& actual, const std::string& what) {
+  ASSERT_EQ(actual.state.size(), expected.state.size()) << what;
+  for (const auto& [name, tensor] : expected.state) {
+    ASSERT_EQ(actual.state.count(name), 1u) << what << ": " << name;
+    EXPECT_TRUE(torch::equal(actual.state.at(name), tensor)) << what << " changes " << name;
+  }
+  EXPECT_EQ(actual.generator, expected.generator) << what;
+  EXPECT_TRUE(torch::equal(actual.torch_state, expected.torch_state)) << what;
+}
+
+struct Case {
+  std::string method;
+  Values base;     // a short base training
+  Values changed;  // every session-only parameter, each with a value other than its default
+};
+
+class SessionOnlyParameters : public ::testing::TestWithParam<Case> {};
+
+TEST_P(SessionOnlyParameters, LeaveTheBaseSessionAsItWas) {
+  const Case& c = GetParam();
+  ParameterSet probe;
+  for (const auto& [key, value] : c.base) probe.set(key, value);
+  const std::set<std::string> declared = create_method(c.method, probe)->session_only_parameters();
+  std::set<std::string> tested;
+  for (const auto& [key, value] : c.changed) {
+    tested.insert(key);
+    EXPECT_EQ(probe.used().count(key), 1u) << c.method << " does not read " << key;
+  }
+  ASSERT_EQ(declared, tested) << "each declared parameter needs a changed value here";
+
+  const BaseOutcome reference = train_base(c.method, c.base);
+  for (const auto& [key, value] : c.changed) {
+    Values values = c.base;
+    values[key] = value;
+    expect_same_base(reference, train_base(c.method, values), c.method + " " + key + "=" + value);
+  }
+}
+
+const Values kPitsBase = {{"pretrain_epochs", "1"}, {"pit_episodes", "2"}, {"pit_epochs", "1"}, {"batch_size", "32"}};
+const Values kPitsSession = {{"epochs_new", "7"}, {"lr_new", "0.37"}, {"lamda_proto", "0.3"}};
+
+Values with(Values values, const Values& more) {
+  values.insert(more.begin(), more.end());
+  return values;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Methods, SessionOnlyParameters,
+    ::testing::Values(
+        Case{"pits-sc", kPitsBase, kPitsSession},
+        Case{"cop-fscil", kPitsBase,
+             with(kPitsSession, {{"pspc_probes", "3"}, {"pspc_beta", "2.5"}, {"pspc_q", "own"},
+                                 {"pspc_instability", "normalised"}, {"pspc_mean", "original"}})},
+        Case{"orco",
+             {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"orco_base_epochs", "2"}, {"orco_views", "2"},
+              {"orco_target_steps", "50"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"},
+              {"orco_session_stop", "last"}},
+             {{"orco_session_epochs", "3"}, {"orco_session_lr", "0.02"}, {"orco_session_batch", "16"},
+              {"orco_session_warmup", "2"}, {"orco_session_stop", "validation"}, {"orco_session_check", "2"},
+              {"orco_session_patience", "4"}, {"orco_novel_ce_weight", "0.9"}, {"orco_base_ce_weight", "0.1"},
+              {"orco_session_orthogonality", "all"}}}),
+    [](const ::testing::TestParamInfo<Case>& info) {
+      std::string name = info.param.method;
+      std::replace(name.begin(), name.end(), '-', '_');
+      return name;
+    });
+
+}  // namespace
+}  // namespace fscil
