@@ -141,6 +141,8 @@ void run_benchmark(const RunOptions& options) {
   }
   ParameterSet protocol_params = params;
   const SplitMode split_mode = parse_split_mode(protocol_params.text("split_mode", "recording"));
+  // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
+  const bool recompute_stages = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
 
   DatasetRequest request;
@@ -239,6 +241,7 @@ void run_benchmark(const RunOptions& options) {
       }
       torch::manual_seed(seeds[s]);
       RunContext context;
+      context.recompute_stages = recompute_stages;
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);
       context.progress = &progress;

@@ -3,12 +3,16 @@
 #include <fmt/format.h>
 
 #include "methods/common/module_cost.h"
+#include "methods/common/running_statistics_guard.h"
+#include "methods/method.h"
 
 namespace fscil {
 
 namespace nn = torch::nn;
 
 namespace {
+
+constexpr int kStages = 4;
 nn::Conv2d conv(std::int64_t in, std::int64_t out, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
   return nn::Conv2d(nn::Conv2dOptions(in, out, kernel).stride(stride).padding(padding).bias(false));
 }
@@ -27,6 +31,48 @@ torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& no
   return torch::conv2d(x, conv->weight * scale.view({-1, 1, 1, 1}), shift, *options.stride(),
                        *c10::get<torch::ExpandingArray<2>>(options.padding()), *options.dilation(), options.groups());
 }
+
+// A ResNet stage whose activations are not kept: forward runs it without a graph (autograd
+// functions do) and saves only its input; backward runs it again with a graph, under a guard
+// that leaves the running statistics as the first forward set them, and differentiates that.
+// Inputs: the stage's input, the encoder, the stage index, the stage's parameters (so autograd
+// hands their gradients back).
+class RecomputedStage : public torch::autograd::Function<RecomputedStage> {
+ public:
+  static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& input,
+                               ResNet18EncoderImpl* encoder, std::int64_t stage, at::TensorList parameters) {
+    ctx->save_for_backward({input});
+    ctx->saved_data["encoder"] = reinterpret_cast<std::int64_t>(encoder);
+    ctx->saved_data["stage"] = stage;
+    ctx->saved_data["parameters"] = static_cast<std::int64_t>(parameters.size());
+    return encoder->run_stage(static_cast<int>(stage), input);
+  }
+
+  static torch::autograd::variable_list backward(torch::autograd::AutogradContext* ctx,
+                                                 torch::autograd::variable_list output_gradients) {
+    auto* encoder = reinterpret_cast<ResNet18EncoderImpl*>(ctx->saved_data["encoder"].toInt());
+    const int stage = static_cast<int>(ctx->saved_data["stage"].toInt());
+    const torch::Tensor saved = ctx->get_saved_variables()[0];
+    const torch::Tensor input = saved.detach().requires_grad_(saved.requires_grad());
+    std::vector<torch::Tensor> wrt = encoder->stage_parameters(stage);
+    torch::Tensor output;
+    {
+      torch::AutoGradMode with_graph(true);
+      RunningStatisticsGuard first_forward_statistics(*encoder);
+      output = encoder->run_stage(stage, input);
+    }
+    if (input.requires_grad()) wrt.insert(wrt.begin(), input);
+    std::vector<torch::Tensor> gradients =
+        torch::autograd::grad({output}, wrt, {output_gradients[0]}, /*retain_graph=*/false,
+                              /*create_graph=*/false, /*allow_unused=*/true);
+    torch::autograd::variable_list result;
+    result.push_back(input.requires_grad() ? gradients.front() : torch::Tensor());
+    result.push_back(torch::Tensor());  // the encoder
+    result.push_back(torch::Tensor());  // the stage index
+    result.insert(result.end(), gradients.begin() + (input.requires_grad() ? 1 : 0), gradients.end());
+    return result;
+  }
+};
 
 }  // namespace
 
@@ -79,9 +125,10 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
       stem_norm(register_module("bn1", nn::BatchNorm2d(options.widths[0]))),
       stages(register_module("stages", nn::Sequential())),
       embedding_size_(options.widths[3]),
-      fold_norms_at_inference_(options.fold_norms_at_inference) {
+      fold_norms_at_inference_(options.fold_norms_at_inference),
+      recompute_stages_(options.recompute_stages) {
   std::int64_t in_planes = options.widths[0];
-  for (int stage = 0; stage < 4; ++stage) {
+  for (int stage = 0; stage < kStages; ++stage) {
     const std::int64_t stride = stage == 0 ? 1 : 2;
     stages->push_back(BasicBlock(in_planes, options.widths[stage], stride, fold_norms_at_inference_));
     stages->push_back(BasicBlock(options.widths[stage], options.widths[stage], 1, fold_norms_at_inference_));
@@ -112,8 +159,32 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
     out = stem_norm(stem(out)).relu_();
   }
   out = torch::max_pool2d(out, 3, 2, 1);
-  out = stages->forward(out);
+  if (is_training() && recompute_stages_ && torch::GradMode::is_enabled()) {
+    for (int stage = 0; stage < kStages; ++stage) {
+      const std::vector<torch::Tensor> parameters = stage_parameters(stage);
+      out = parameters.empty() && !out.requires_grad()
+                ? run_stage(stage, out)
+                : RecomputedStage::apply(out, this, static_cast<std::int64_t>(stage), at::TensorList(parameters));
+    }
+  } else {
+    out = stages->forward(out);
+  }
   return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);
+}
+
+torch::Tensor ResNet18EncoderImpl::run_stage(int stage, const torch::Tensor& x) {
+  const torch::Tensor out = stages->ptr(2 * stage)->as<BasicBlock>()->forward(x);
+  return stages->ptr(2 * stage + 1)->as<BasicBlock>()->forward(out);
+}
+
+std::vector<torch::Tensor> ResNet18EncoderImpl::stage_parameters(int stage) const {
+  std::vector<torch::Tensor> trained;
+  for (int block = 2 * stage; block < 2 * stage + 2; ++block) {
+    for (const auto& parameter : stages->ptr(block)->parameters()) {
+      if (parameter.requires_grad()) trained.push_back(parameter);
+    }
+  }
+  return trained;
 }
 
 void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
@@ -127,6 +198,12 @@ void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, c
     out = stages->ptr(block)->as<BasicBlock>()->count_cost(cost, fmt::format("{}.stages.{}", name, block), out);
   }
   cost.add({name + ".avgpool", "pool", global_average_pool_macs(out)});
+}
+
+ResNet18Options encoder_options(const RunContext& context) {
+  ResNet18Options options{context.input.channels, context.input.mel_bins};
+  options.recompute_stages = context.recompute_stages;
+  return options;
 }
 
 }  // namespace fscil

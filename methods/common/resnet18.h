@@ -17,6 +17,10 @@ struct ResNet18Options {
   // In eval mode, run each convolution and its batch norm as one convolution with folded weights
   // (same function up to float rounding, one pass over the activations instead of two).
   bool fold_norms_at_inference = true;
+  // In training, keep only each of the four stages' input and run the stage again during
+  // backward (activation recomputation): the same gradients and running statistics to the bit,
+  // for about one more forward pass of time and far less memory.
+  bool recompute_stages = false;
 };
 
 class BasicBlockImpl : public torch::nn::Module {
@@ -49,6 +53,10 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   std::int64_t embedding_size() const { return embedding_size_; }
   // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
   void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;
+  // Stage `stage` (0-3: its two blocks) on its input.
+  torch::Tensor run_stage(int stage, const torch::Tensor& x);
+  std::vector<torch::Tensor> stage_parameters(int stage) const;
+  void set_recompute_stages(bool recompute) { recompute_stages_ = recompute; }
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};
@@ -57,7 +65,12 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   torch::nn::Sequential stages{nullptr};
   std::int64_t embedding_size_;
   bool fold_norms_at_inference_;
+  bool recompute_stages_;
 };
 TORCH_MODULE(ResNet18Encoder);
+
+struct RunContext;
+// The shared encoder's options for the run's input (channels, Mel bins) and recomputation.
+ResNet18Options encoder_options(const RunContext& context);
 
 }  // namespace fscil

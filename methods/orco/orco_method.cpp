@@ -43,7 +43,7 @@ OrcoMethod::OrcoMethod(const ParameterSet& params) : settings_(OrcoSettings::fro
 
 void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
   base_classes_ = context.base_classes;
-  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  encoder_ = ResNet18Encoder(encoder_options(context));
   projector_ = Projector(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
   pretrain(base, context);
 
@@ -284,7 +284,7 @@ MethodState OrcoMethod::save_state() const {
 
 void OrcoMethod::restore_state(const MethodState& state, RunContext& context) {
   base_classes_ = take(state, "base_classes").item<std::int64_t>();
-  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  encoder_ = ResNet18Encoder(encoder_options(context));
   projector_ = Projector(encoder_->embedding_size(), settings_.projector_hidden, settings_.projection_size);
   take_module(state, "phase_two_projector.", *projector_);
   phase_two_projector_ = ParameterSnapshot(*projector_);

@@ -21,7 +21,7 @@ namespace F = torch::nn::functional;
 PitsScMethod::PitsScMethod(const ParameterSet& params) : settings_(PitsScSettings::from(params)) {}
 
 void PitsScMethod::build_network(RunContext& context) {
-  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  encoder_ = ResNet18Encoder(encoder_options(context));
   classifier_ = StochasticClassifier(context.total_classes, encoder_->embedding_size(), settings_.temperature);
 }
 

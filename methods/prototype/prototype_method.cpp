@@ -12,7 +12,7 @@ PrototypeMethod::PrototypeMethod(const ParameterSet& params)
     : schedule_(SupervisedSchedule::from(params)), temperature_(params.real("temperature", 16.0, ValidRange::above(0))) {}
 
 void PrototypeMethod::build_network(const RunContext& context) {
-  encoder_ = ResNet18Encoder(ResNet18Options{context.input.channels, context.input.mel_bins});
+  encoder_ = ResNet18Encoder(encoder_options(context));
   classifier_ = CosineClassifier(context.total_classes, encoder_->embedding_size(), temperature_);
 }
 

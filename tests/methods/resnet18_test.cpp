@@ -92,3 +92,89 @@ TEST(ResNet18, TheInputNormHookSeesBn0sStandardisedMapInBothModes) {
 
 }  // namespace
 }  // namespace fscil
+
+namespace fscil {
+namespace {
+
+// Two encoders with the same initial weights, the second recomputing its stages in backward.
+std::pair<ResNet18Encoder, ResNet18Encoder> recompute_pair() {
+  ResNet18Options options{3, 16};
+  torch::manual_seed(7);
+  ResNet18Encoder kept(options);
+  options.recompute_stages = true;
+  torch::manual_seed(7);
+  ResNet18Encoder recomputed(options);
+  return {kept, recomputed};
+}
+
+bool graph_has(const std::shared_ptr<torch::autograd::Node>& node, const std::string& name, int depth = 0) {
+  if (!node || depth > 200) return false;
+  if (node->name().find(name) != std::string::npos) return true;
+  for (const auto& edge : node->next_edges()) {
+    if (graph_has(edge.function, name, depth + 1)) return true;
+  }
+  return false;
+}
+
+// Three SGD steps on the same batches; every parameter, gradient and running statistic compared.
+void expect_identical_training(ResNet18Encoder& kept, ResNet18Encoder& recomputed, bool stem_frozen) {
+  for (auto* encoder : {&kept, &recomputed}) {
+    (*encoder)->train();
+    if (stem_frozen) {
+      for (auto& item : (*encoder)->named_parameters()) {
+        if (item.key().rfind("stages.", 0) != 0) item.value().requires_grad_(false);
+      }
+    }
+  }
+  torch::optim::SGD kept_sgd(kept->parameters(), torch::optim::SGDOptions(0.1).momentum(0.9));
+  torch::optim::SGD recomputed_sgd(recomputed->parameters(), torch::optim::SGDOptions(0.1).momentum(0.9));
+  for (int step = 0; step < 3; ++step) {
+    torch::manual_seed(100 + step);
+    const torch::Tensor batch = torch::randn({6, 3, 16, 20}), target = torch::randn({6, 256});
+    kept_sgd.zero_grad();
+    recomputed_sgd.zero_grad();
+    const torch::Tensor kept_out = kept->forward(batch), recomputed_out = recomputed->forward(batch);
+    ASSERT_TRUE(torch::equal(kept_out, recomputed_out)) << "step " << step;
+    EXPECT_TRUE(graph_has(recomputed_out.grad_fn(), "RecomputedStage"));
+    EXPECT_FALSE(graph_has(kept_out.grad_fn(), "RecomputedStage"));
+    ((kept_out - target).pow(2).sum()).backward();
+    ((recomputed_out - target).pow(2).sum()).backward();
+    const auto recomputed_parameters = recomputed->named_parameters();
+    for (const auto& item : kept->named_parameters()) {
+      const torch::Tensor& other = recomputed_parameters[item.key()];
+      ASSERT_EQ(item.value().grad().defined(), other.grad().defined()) << item.key();
+      if (item.value().grad().defined()) {
+        EXPECT_TRUE(torch::equal(item.value().grad(), other.grad())) << item.key() << ", step " << step;
+      }
+    }
+    kept_sgd.step();
+    recomputed_sgd.step();
+    const auto recomputed_buffers = recomputed->named_buffers();
+    for (const auto& item : kept->named_buffers()) {
+      EXPECT_TRUE(torch::equal(item.value(), recomputed_buffers[item.key()])) << item.key() << " counted twice?";
+    }
+  }
+  for (const auto& item : kept->named_parameters()) {
+    EXPECT_TRUE(torch::equal(item.value(), recomputed->named_parameters()[item.key()])) << item.key();
+  }
+}
+
+TEST(ResNet18, RecomputedStagesTrainToTheBitLikeKeptActivations) {
+  auto [kept, recomputed] = recompute_pair();
+  expect_identical_training(kept, recomputed, /*stem_frozen=*/false);
+}
+
+TEST(ResNet18, RecomputedStagesWorkWhenOnlyTheStagesTrain) {
+  auto [kept, recomputed] = recompute_pair();
+  expect_identical_training(kept, recomputed, /*stem_frozen=*/true);
+}
+
+TEST(ResNet18, RecomputationIsOnlyForTrainingWithGradients) {
+  auto [kept, recomputed] = recompute_pair();
+  recomputed->train();
+  torch::NoGradGuard no_grad;
+  EXPECT_FALSE(graph_has(recomputed->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedStage"));
+}
+
+}  // namespace
+}  // namespace fscil

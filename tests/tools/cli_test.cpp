@@ -451,16 +451,18 @@ TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
   expect_one_error_line(report, "runs that cannot share a table (shot=2 against shot=5)");
 }
 
-TEST(Cli, FeaturesComputedOnDemandGiveTheAccuraciesOfFeaturesKeptInMemory) {
-  TemporaryDirectory in_memory, on_demand;
+TEST(Cli, FeaturesOnDemandAndRecomputedActivationsGiveTheScoresOfTheDefaultRun) {
+  TemporaryDirectory in_memory, on_demand, recomputed;
   // pits-sc reads features by batch, the validation split and raw signals for its mixtures.
   const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
   ASSERT_EQ(run_cli(common + " --features memory --out " + in_memory.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --features on-demand --out " + on_demand.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli(common + " --set recompute=stages --out " + recomputed.path().string()).exit_code, 0);
   const auto file = std::filesystem::path("results") / "pits-sc__simtex-mini__seed1.json";
-  const std::string kept = accuracies_in(in_memory.path() / file);
-  EXPECT_EQ(std::count(kept.begin(), kept.end(), ':'), 3);
-  EXPECT_EQ(kept, accuracies_in(on_demand.path() / file));
+  const std::string kept = scores_in(in_memory.path() / file);
+  EXPECT_EQ(std::count(kept.begin(), kept.end(), ':'), 3 * 7);
+  EXPECT_EQ(kept, scores_in(on_demand.path() / file));
+  EXPECT_EQ(kept, scores_in(recomputed.path() / file));
 }
 
 TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
