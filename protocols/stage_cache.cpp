@@ -20,17 +20,18 @@ std::string segments_text(const SessionSchedule& schedule, const std::vector<std
 
 std::string base_stage_identity(const BaseStageInputs& inputs) {
   const SessionSchedule& schedule = *inputs.schedule;
-  std::string parameters;
+  std::string parameters, run_values;
   for (const auto& [key, value] : inputs.method_parameters) parameters += key + "=" + value + ";";
+  for (const auto& [key, value] : inputs.run_values) run_values += key + "=" + value + ";";
   // Session 0 scores the base classes' part of the scored split.
   std::vector<std::int64_t> scored;
   for (std::int64_t segment : schedule.scored_segments(inputs.scored)) {
     if (schedule.label[segment] < schedule.plan.base_classes) scored.push_back(segment);
   }
   return fmt::format(
-      "base stage: code={} method={} data={} seed={} threads={} classes={}/{} train={} validation={} scored={}:{} "
+      "base stage: code={} method={} data={} run={} seed={} threads={} classes={}/{} train={} validation={} scored={}:{} "
       "parameters={}",
-      inputs.code, inputs.method_base, inputs.dataset_key, inputs.seed, inputs.threads, schedule.plan.base_classes,
+      inputs.code, inputs.method_base, inputs.dataset_key, stable_hash(run_values), inputs.seed, inputs.threads, schedule.plan.base_classes,
       schedule.plan.total_classes(), stable_hash(segments_text(schedule, schedule.train.front())),
       stable_hash(segments_text(schedule, schedule.validation)), to_string(inputs.scored),
       stable_hash(segments_text(schedule, scored)), stable_hash(parameters));

@@ -15,6 +15,9 @@ struct BaseStageInputs {
   std::string code;         // the executable's digest: any change to the code is another base
   std::string method_base;  // Method::shared_base_key(), or the method's name when it shares none
   std::string dataset_key;  // the prepared segments (PreparedDataset::cache_key)
+  // Everything else the data and the run read: the front end (cache_key covers segments only),
+  // dataset knobs, and run-wide values such as recompute (same numbers, not the same peak memory).
+  std::map<std::string, std::string> run_values;
   std::uint64_t seed = 0;
   int threads = 0;
   EvaluationSplit scored = EvaluationSplit::test;
@@ -29,7 +32,8 @@ std::string base_stage_identity(const BaseStageInputs& inputs);
 // after session 0 (protocols/run_checkpoint.h), filed in FOLDER under a digest of its identity.
 // A run, variant, sweep cell or Slurm task whose base has the same identity continues from it
 // as `--resume` continues from a run's own checkpoint, so its numbers are those of a run that
-// trained its base itself.
+// trained its base itself. Runs started together each train it (there is no lock); the first to
+// finish files it, and runs started after that reuse it.
 class StageCache {
  public:
   explicit StageCache(std::filesystem::path folder) : folder_(std::move(folder)) {}

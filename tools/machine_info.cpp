@@ -75,9 +75,12 @@ std::string code_digest() {
     std::ifstream executable("/proc/self/exe", std::ios::binary);
     const std::string bytes((std::istreambuf_iterator<char>(executable)), std::istreambuf_iterator<char>());
     if (!executable.good() && !executable.eof()) return std::string();
-    std::string libraries;
-    for (const auto& [library, version] : library_versions()) libraries += library + "=" + version + ";";
-    return stable_hash(bytes) + "+" + stable_hash(libraries);
+    // Libraries as loaded, the CPU and the BLAS behind libblas.so.3: all change float results.
+    std::map<std::string, std::string> runtime = describe_machine();
+    runtime.erase("host");
+    std::string text;
+    for (const auto& [name, value] : runtime) text += name + "=" + value + ";";
+    return stable_hash(bytes) + "+" + stable_hash(text);
   }();
   return digest;
 }

@@ -13,9 +13,10 @@ std::string harness_version();
 // The git commit this binary was built from (with "-dirty" when tracked files differed from it),
 // or "unknown"; written at build time by tools/build_info.cmake.
 std::string source_commit();
-// A digest of this executable's bytes and of the libraries it runs with (library_versions()): the
-// code identity of what it trains (protocols/stage_cache.h); any rebuild that changes the code
-// changes it. Empty when the executable cannot be read.
+// A digest of this executable's bytes and of what it runs on (describe_machine() but the host
+// name: libraries, CPU, BLAS, hardware threads): the identity of the code that trains a cached
+// base (protocols/stage_cache.h). Any rebuild that changes the code changes it. Empty when the
+// executable cannot be read.
 std::string code_digest();
 // What `fscil-bench --version` prints: release, commit, libraries and compiler, a line each.
 std::string version_text();

@@ -39,6 +39,10 @@ fs::path default_cache_dir() {
   return fs::temp_directory_path() / "fscil-bench-cache";
 }
 
+// A cached base's outcome carries the peak memory of the run that trained it under this
+// diagnostic; it is taken out before the outcome is used.
+constexpr const char* kCachedPeakKey = "stage_cache_peak_resident_bytes";
+
 fs::path cache_folder(const RunOptions& options) {
   return options.cache_dir.empty() ? default_cache_dir() : fs::path(options.cache_dir);
 }
@@ -205,6 +209,11 @@ void run_benchmark(const RunOptions& options) {
   const std::string code = code_digest();
   const bool stage_caching = !options.no_cache && !options.no_stage_cache && !code.empty();
   const StageCache stage_cache(cache_folder(options) / "stages");
+  // What else shapes a base besides the method's values: the front end and dataset knobs (the
+  // dataset key covers segments only) and the run-wide recompute (same numbers, another peak).
+  std::map<std::string, std::string> run_values = dataset_params.used();
+  run_values["front_end"] = dataset.description.front_end.describe();
+  run_values["recompute"] = recompute_stages ? "stages" : "none";
   std::vector<RunRecord> records;
   // Per (shared base key, seed): the last method that trained or inherited that base.
   struct TrainedBase {
@@ -253,25 +262,31 @@ void run_benchmark(const RunOptions& options) {
       SessionCheckpoints checkpoints;
       double seconds_before = 0;
       // Everything that shapes this run's base session, for the stage cache.
-      std::map<std::string, std::string> base_parameters = run_params.used();
-      for (const std::string& key : method->session_only_parameters()) base_parameters.erase(key);
+      std::map<std::string, std::string> base_method_values = run_params.used();
+      for (const std::string& key : method->session_only_parameters()) base_method_values.erase(key);
       const std::string base_identity = base_stage_identity(
-          {code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key, seeds[s], threads, evaluation,
-           base_parameters, &schedules[s]});
+          {code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key, run_values, seeds[s], threads,
+           evaluation, base_method_values, &schedules[s]});
       bool base_from_cache = false;
-      if (options.resume && fs::exists(checkpoint_file)) {
-        RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);
+      std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
+      // The method and both random states as `saved` left them, its sessions counted as done;
+      // MethodError when the state does not fit the method.
+      const auto continue_from = [&](RunCheckpoint& saved) {
         describe_protocol(context, dataset, schedules[s]);
-        try {
-          method->restore_state(saved.method_state, context);
-        } catch (const MethodError& error) {
-          throw ProtocolError(fmt::format("{}: checkpoint does not fit {}: {}", checkpoint_file.string(),
-                                          method_names[m], error.what()));
-        }
+        method->restore_state(saved.method_state, context);
         context.generator = saved.generator;
         restore_torch_random_state(saved.torch_random_state);
         checkpoints.finished = std::move(saved.outcomes);
         seconds_before = saved.elapsed_seconds;
+      };
+      if (options.resume && fs::exists(checkpoint_file)) {
+        RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);
+        try {
+          continue_from(saved);
+        } catch (const MethodError& error) {
+          throw ProtocolError(fmt::format("{}: checkpoint does not fit {}: {}", checkpoint_file.string(),
+                                          method_names[m], error.what()));
+        }
         progress.note(fmt::format("continuing after session {} from {}", checkpoints.finished.size() - 1,
                                   checkpoint_file.string()));
       } else if (auto found = trained_bases.find({base_key, seeds[s]});
@@ -281,31 +296,40 @@ void run_benchmark(const RunOptions& options) {
         base_trained_by = found->second.trained_by;
         progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
       } else if (stage_caching) {
+        const fs::path cached_file = stage_cache.file_of(base_identity);
         std::string dropped;
         if (std::optional<RunCheckpoint> cached = stage_cache.find(base_identity, dropped)) {
-          describe_protocol(context, dataset, schedules[s]);
+          auto& diagnostics = cached->outcomes.front().diagnostics;
+          base_peak_bytes = static_cast<std::int64_t>(diagnostics[kCachedPeakKey]);
+          diagnostics.erase(kCachedPeakKey);
           try {
-            method->restore_state(cached->method_state, context);
+            continue_from(*cached);
+            base_from_cache = true;
+            progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
+                                      cached_file.string(), checkpoints.finished.front().train_seconds));
           } catch (const MethodError& error) {
-            throw ProtocolError(fmt::format("{}: cached base does not fit {} ({}); remove it or run with --no-stage-cache",
-                                            stage_cache.file_of(base_identity).string(), method_names[m], error.what()));
+            dropped = fmt::format("{}: does not fit {}: {}", cached_file.string(), method_names[m], error.what());
+            std::error_code ignored;
+            fs::remove(cached_file, ignored);
+            // Start again from scratch: a fresh method, the seed's random states, no sessions done.
+            checkpoints.finished.clear();
+            seconds_before = 0;
+            base_peak_bytes = 0;
+            run_params = params;
+            method = create_method(method_names[m], run_params);
+            torch::manual_seed(seeds[s]);
+            context.generator = std::mt19937_64(seeds[s]);
           }
-          context.generator = cached->generator;
-          restore_torch_random_state(cached->torch_random_state);
-          checkpoints.finished = std::move(cached->outcomes);
-          base_from_cache = true;
-          progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
-                                    stage_cache.file_of(base_identity).string(), checkpoints.finished.front().train_seconds));
-        } else if (!dropped.empty()) {
-          progress.note(fmt::format("stage cache entry dropped, the base is trained again: {}", dropped));
         }
+        if (!dropped.empty()) progress.note(fmt::format("stage cache entry dropped, the base is trained again: {}", dropped));
       }
       checkpoints.after_session = [&](const std::vector<SessionOutcome>& so_far) {
-        const RunCheckpoint now{identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
-                                context.generator, torch_random_state()};
+        RunCheckpoint now{identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
+                          context.generator, torch_random_state()};
         save_checkpoint(checkpoint_file, now);
         if (so_far.size() != 1 || !stage_caching || base_from_cache) return;
         try {
+          now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
           stage_cache.store(base_identity, now);
         } catch (const std::exception& error) {  // a cache that cannot be written costs time, not the run
           progress.note(fmt::format("stage cache not written: {}", error.what()));
@@ -326,7 +350,7 @@ void run_benchmark(const RunOptions& options) {
                                    outcome.diagnostics});
       }
       record.total_seconds = seconds_before + run_clock.seconds();
-      record.peak_resident_bytes = peak_resident_bytes();
+      record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), base_peak_bytes);
       record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
                           timing.batch};
       const ReplayFootprint replay = method->replay_footprint();

@@ -35,8 +35,10 @@ torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& no
 // A ResNet stage whose activations are not kept: forward runs it without a graph (autograd
 // functions do) and saves only its input; backward runs it again with a graph, under a guard
 // that leaves the running statistics as the first forward set them, and differentiates that.
-// Inputs: the stage's input, the encoder, the stage index, the stage's parameters (so autograd
-// hands their gradients back).
+// Inputs: the stage's input, the encoder, the stage index, the stage's trained parameters (so
+// autograd hands their gradients back). The encoder must outlive the graph, as a module does
+// whose forward built it; the parameters that train, and train mode, must not change between
+// forward and backward (checked).
 class RecomputedStage : public torch::autograd::Function<RecomputedStage> {
  public:
   static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& input,
@@ -50,11 +52,14 @@ class RecomputedStage : public torch::autograd::Function<RecomputedStage> {
 
   static torch::autograd::variable_list backward(torch::autograd::AutogradContext* ctx,
                                                  torch::autograd::variable_list output_gradients) {
+    TORCH_CHECK(!torch::GradMode::is_enabled(), "recomputed ResNet stages do not support a second derivative");
     auto* encoder = reinterpret_cast<ResNet18EncoderImpl*>(ctx->saved_data["encoder"].toInt());
     const int stage = static_cast<int>(ctx->saved_data["stage"].toInt());
     const torch::Tensor saved = ctx->get_saved_variables()[0];
     const torch::Tensor input = saved.detach().requires_grad_(saved.requires_grad());
     std::vector<torch::Tensor> wrt = encoder->stage_parameters(stage);
+    TORCH_CHECK(encoder->is_training() && static_cast<std::int64_t>(wrt.size()) == ctx->saved_data["parameters"].toInt(),
+                "a recomputed ResNet stage changed between forward and backward (train mode or trained parameters)");
     torch::Tensor output;
     {
       torch::AutoGradMode with_graph(true);

@@ -56,7 +56,6 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   // Stage `stage` (0-3: its two blocks) on its input.
   torch::Tensor run_stage(int stage, const torch::Tensor& x);
   std::vector<torch::Tensor> stage_parameters(int stage) const;
-  void set_recompute_stages(bool recompute) { recompute_stages_ = recompute; }
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};

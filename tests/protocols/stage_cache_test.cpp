@@ -31,7 +31,8 @@ SessionSchedule small_schedule() {
 
 struct Inputs {
   SessionSchedule schedule = small_schedule();
-  BaseStageInputs base{"code", "pits-sc", "data", 1, 2, EvaluationSplit::test, {{"pretrain_lr", "0.1"}, {"cutmix_alpha", "0.8"}}, nullptr};
+  BaseStageInputs base{"code", "pits-sc", "data", {{"front_end", "sr=1000 n_fft=128"}, {"recompute", "none"}}, 1, 2,
+                       EvaluationSplit::test, {{"pretrain_lr", "0.1"}, {"cutmix_alpha", "0.8"}}, nullptr};
   std::string identity() {
     base.schedule = &schedule;
     return base_stage_identity(base);
@@ -44,6 +45,8 @@ TEST(StageCache, TheIdentityChangesWithEverythingTheBaseSessionSeesAndNothingEls
       {"code", [](Inputs& in) { in.base.code = "other"; }},
       {"method", [](Inputs& in) { in.base.method_base = "cop-fscil:no-pcqa"; }},
       {"dataset", [](Inputs& in) { in.base.dataset_key = "other"; }},
+      {"the front end", [](Inputs& in) { in.base.run_values["front_end"] = "sr=1000 n_fft=256"; }},
+      {"recomputation", [](Inputs& in) { in.base.run_values["recompute"] = "stages"; }},
       {"seed", [](Inputs& in) { in.base.seed = 2; }},
       {"threads", [](Inputs& in) { in.base.threads = 1; }},
       {"scored split", [](Inputs& in) { in.base.scored = EvaluationSplit::validation; }},
