@@ -15,4 +15,10 @@ std::string stable_hash(const std::string& text) {
   return fmt::format("{:016x}", hash);
 }
 
+std::string stable_hash(const std::map<std::string, std::string>& values) {
+  std::string text;
+  for (const auto& [key, value] : values) text += key + "=" + value + ";";
+  return stable_hash(text);
+}
+
 }  // namespace fscil

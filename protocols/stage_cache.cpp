@@ -20,9 +20,6 @@ std::string segments_text(const SessionSchedule& schedule, const std::vector<std
 
 std::string base_stage_identity(const BaseStageInputs& inputs) {
   const SessionSchedule& schedule = *inputs.schedule;
-  std::string parameters, run_values;
-  for (const auto& [key, value] : inputs.method_parameters) parameters += key + "=" + value + ";";
-  for (const auto& [key, value] : inputs.run_values) run_values += key + "=" + value + ";";
   // Session 0 scores the base classes' part of the scored split.
   std::vector<std::int64_t> scored;
   for (std::int64_t segment : schedule.scored_segments(inputs.scored)) {
@@ -31,10 +28,10 @@ std::string base_stage_identity(const BaseStageInputs& inputs) {
   return fmt::format(
       "base stage: code={} method={} data={} run={} seed={} threads={} classes={}/{} train={} validation={} scored={}:{} "
       "parameters={}",
-      inputs.code, inputs.method_base, inputs.dataset_key, stable_hash(run_values), inputs.seed, inputs.threads, schedule.plan.base_classes,
+      inputs.code, inputs.method_base, inputs.dataset_key, stable_hash(inputs.run_values), inputs.seed, inputs.threads, schedule.plan.base_classes,
       schedule.plan.total_classes(), stable_hash(segments_text(schedule, schedule.train.front())),
       stable_hash(segments_text(schedule, schedule.validation)), to_string(inputs.scored),
-      stable_hash(segments_text(schedule, scored)), stable_hash(parameters));
+      stable_hash(segments_text(schedule, scored)), stable_hash(inputs.method_parameters));
 }
 
 std::filesystem::path StageCache::file_of(const std::string& identity) const {

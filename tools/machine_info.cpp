@@ -70,19 +70,14 @@ std::string harness_version() { return FSCIL_VERSION; }
 
 std::string source_commit() { return FSCIL_SOURCE_COMMIT; }
 
-std::string code_digest() {
-  static const std::string digest = [] {
-    std::ifstream executable("/proc/self/exe", std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(executable)), std::istreambuf_iterator<char>());
-    if (!executable.good() && !executable.eof()) return std::string();
-    // Libraries as loaded, the CPU and the BLAS behind libblas.so.3: all change float results.
-    std::map<std::string, std::string> runtime = describe_machine();
-    runtime.erase("host");
-    std::string text;
-    for (const auto& [name, value] : runtime) text += name + "=" + value + ";";
-    return stable_hash(bytes) + "+" + stable_hash(text);
-  }();
-  return digest;
+std::string code_digest(const std::map<std::string, std::string>& machine) {
+  std::ifstream executable("/proc/self/exe", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(executable)), std::istreambuf_iterator<char>());
+  if (!executable.good() && !executable.eof()) return std::string();
+  // Libraries as loaded, the CPU and the BLAS behind libblas.so.3: all change float results.
+  std::map<std::string, std::string> runtime = machine;
+  runtime.erase("host");
+  return stable_hash(bytes) + "+" + stable_hash(runtime);
 }
 
 std::string version_text() {

@@ -13,11 +13,11 @@ std::string harness_version();
 // The git commit this binary was built from (with "-dirty" when tracked files differed from it),
 // or "unknown"; written at build time by tools/build_info.cmake.
 std::string source_commit();
-// A digest of this executable's bytes and of what it runs on (describe_machine() but the host
-// name: libraries, CPU, BLAS, hardware threads): the identity of the code that trains a cached
-// base (protocols/stage_cache.h). Any rebuild that changes the code changes it. Empty when the
-// executable cannot be read.
-std::string code_digest();
+// A digest of this executable's bytes and of what it runs on (`machine`, describe_machine()'s
+// result, but the host name: libraries, CPU, BLAS, hardware threads): the identity of the code
+// that trains a cached base (protocols/stage_cache.h). Any rebuild that changes the code changes
+// it. Empty when the executable cannot be read.
+std::string code_digest(const std::map<std::string, std::string>& machine);
 // What `fscil-bench --version` prints: release, commit, libraries and compiler, a line each.
 std::string version_text();
 

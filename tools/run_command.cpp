@@ -72,11 +72,9 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
 std::string identity_of(const RunRecord& record) {
   std::map<std::string, std::string> parameters = record.parameters;
   parameters.erase("base_training");  // how the base was obtained, not what it is
-  std::string text;
-  for (const auto& [key, value] : parameters) text += key + "=" + value + ";";
   return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} parameters={}",
                      record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
-                     record.evaluated_on, stable_hash(text));
+                     record.evaluated_on, stable_hash(parameters));
 }
 
 fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
@@ -206,8 +204,9 @@ void run_benchmark(const RunOptions& options) {
 
   const auto machine = describe_machine();
   const std::string commit = source_commit();
-  const std::string code = code_digest();
-  const bool stage_caching = !options.no_cache && !options.no_stage_cache && !code.empty();
+  // The executable is read only when the stage cache is in use.
+  const std::string code = options.no_cache || options.no_stage_cache ? std::string() : code_digest(machine);
+  const bool stage_caching = !code.empty();
   const StageCache stage_cache(cache_folder(options) / "stages");
   // What else shapes a base besides the method's values: the front end and dataset knobs (the
   // dataset key covers segments only) and the run-wide recompute (same numbers, another peak).
@@ -264,9 +263,11 @@ void run_benchmark(const RunOptions& options) {
       // Everything that shapes this run's base session, for the stage cache.
       std::map<std::string, std::string> base_method_values = run_params.used();
       for (const std::string& key : method->session_only_parameters()) base_method_values.erase(key);
-      const std::string base_identity = base_stage_identity(
-          {code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key, run_values, seeds[s], threads,
-           evaluation, base_method_values, &schedules[s]});
+      const std::string base_identity =
+          stage_caching ? base_stage_identity({code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key,
+                                               run_values, seeds[s], threads, evaluation, base_method_values,
+                                               &schedules[s]})
+                        : std::string();
       bool base_from_cache = false;
       std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
       // The method and both random states as `saved` left them, its sessions counted as done;
