@@ -4,12 +4,14 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <memory>
 #include <random>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "methods/sample_rows.h"
+#include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
 #include "protocols/parameter_set.h"
 #include "protocols/progress_reporter.h"
@@ -48,6 +50,8 @@ struct RunContext {
   // Encoders recompute each stage's activations in backward instead of keeping them
   // (`--set recompute=stages`): less memory, the same numbers.
   bool recompute_stages = false;
+  // --max-memory: training passes that would pass it recompute as above (null: no limit).
+  std::shared_ptr<MemoryBudget> memory_budget;
   const SessionData* validation = nullptr;
   ProgressReporter* progress = nullptr;
   // Named measurements of the session being trained (base validation accuracy after a stage,

@@ -158,6 +158,9 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     } else if (!inherited_base) {
       method.train_base(data, context);
     }
+    if (context.memory_budget) {
+      context.diagnostics["max_memory_recomputed_passes"] = static_cast<double>(context.memory_budget->take_exceeding_passes());
+    }
     outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : train_clock.seconds();
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
 

@@ -78,6 +78,9 @@ int main(int argc, char** argv) {
   app.add_option("--data-root", run.data_root, "root folder of a real dataset download");
   app.add_option("--cache-dir", run.cache_dir, "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)");
   app.add_flag("--no-cache", run.no_cache, "neither read nor write either cache");
+  app.add_option("--max-memory", run.max_memory,
+                 "SIZE (4G, 512M, bytes): a training pass that would take the run past it recomputes its ResNet "
+                 "stages in backward (as --set recompute=stages, the same numbers); an estimate, not a cap");
   app.add_flag("--no-stage-cache", run.no_stage_cache, "train every base session, even one the cache holds for exactly these inputs");
   app.add_option("--features", run.features,
                  "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the "

@@ -22,6 +22,7 @@
 #include "protocols/stage_cache.h"
 #include "protocols/session_schedule.h"
 #include "reports/comparable_runs.h"
+#include "tools/byte_size.h"
 #include "tools/machine_info.h"
 #include "tools/out_folder_lock.h"
 #include "tools/report_writer.h"
@@ -146,6 +147,7 @@ void run_benchmark(const RunOptions& options) {
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
   const bool recompute_stages = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
+  const std::int64_t memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
 
   DatasetRequest request;
   request.data_root = options.data_root;
@@ -180,6 +182,9 @@ void run_benchmark(const RunOptions& options) {
 
   std::map<std::string, std::string> protocol_parameters = dataset_params.used();
   for (const auto& [key, value] : protocol_params.used()) protocol_parameters[key] = value;
+  // Like recompute: the same numbers, another peak. Named only when given, so runs without it
+  // keep their identity.
+  if (memory_limit > 0) protocol_parameters["max_memory"] = std::to_string(memory_limit);
   // What a run of this command is before it trains: its identity, and the start of its record.
   const auto planned_run = [&](const std::string& method, const ParameterSet& method_parameters, std::uint64_t seed) {
     RunRecord run;
@@ -213,6 +218,7 @@ void run_benchmark(const RunOptions& options) {
   std::map<std::string, std::string> run_values = dataset_params.used();
   run_values["front_end"] = dataset.description.front_end.describe();
   run_values["recompute"] = recompute_stages ? "stages" : "none";
+  if (memory_limit > 0) run_values["max_memory"] = std::to_string(memory_limit);
   std::vector<RunRecord> records;
   // Per (shared base key, seed): the last method that trained or inherited that base.
   struct TrainedBase {
@@ -250,6 +256,7 @@ void run_benchmark(const RunOptions& options) {
       torch::manual_seed(seeds[s]);
       RunContext context;
       context.recompute_stages = recompute_stages;
+      if (memory_limit > 0) context.memory_budget = std::make_shared<MemoryBudget>(memory_limit);
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);
       context.progress = &progress;

@@ -129,9 +129,11 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
       stem(register_module("conv1", conv(options.in_channels, options.widths[0], 7, 2, 3))),
       stem_norm(register_module("bn1", nn::BatchNorm2d(options.widths[0]))),
       stages(register_module("stages", nn::Sequential())),
+      widths_(options.widths),
       embedding_size_(options.widths[3]),
       fold_norms_at_inference_(options.fold_norms_at_inference),
-      recompute_stages_(options.recompute_stages) {
+      recompute_stages_(options.recompute_stages),
+      memory_budget_(options.memory_budget) {
   std::int64_t in_planes = options.widths[0];
   for (int stage = 0; stage < kStages; ++stage) {
     const std::int64_t stride = stage == 0 ? 1 : 2;
@@ -164,7 +166,9 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
     out = stem_norm(stem(out)).relu_();
   }
   out = torch::max_pool2d(out, 3, 2, 1);
-  if (is_training() && recompute_stages_ && torch::GradMode::is_enabled()) {
+  const bool recompute = is_training() && torch::GradMode::is_enabled() &&
+                         (recompute_stages_ || (memory_budget_ && memory_budget_->would_exceed(kept_stage_bytes(out))));
+  if (recompute) {
     for (int stage = 0; stage < kStages; ++stage) {
       const std::vector<torch::Tensor> parameters = stage_parameters(stage);
       out = parameters.empty() && !out.requires_grad()
@@ -192,6 +196,21 @@ std::vector<torch::Tensor> ResNet18EncoderImpl::stage_parameters(int stage) cons
   return trained;
 }
 
+std::int64_t ResNet18EncoderImpl::kept_stage_bytes(const torch::Tensor& pooled) const {
+  std::int64_t height = pooled.size(2), width = pooled.size(3), in_planes = pooled.size(1), elements = 0;
+  for (int stage = 0; stage < kStages; ++stage) {
+    if (stage > 0) height = (height + 1) / 2, width = (width + 1) / 2;  // 3x3, stride 2, padding 1
+    // Each block keeps its two convolutions' outputs and its two norms' outputs; a block that
+    // changes the map keeps its shortcut's convolution and norm outputs too.
+    const bool shortcut = stage > 0 || in_planes != widths_[stage];
+    elements += (8 + (shortcut ? 2 : 0)) * widths_[stage] * height * width;
+    in_planes = widths_[stage];
+  }
+  // The stem's map (before pooling: twice the pooled height and width) and its norm's gradient.
+  elements += 2 * 4 * pooled.size(1) * pooled.size(2) * pooled.size(3);
+  return elements * pooled.size(0) * static_cast<std::int64_t>(pooled.element_size());
+}
+
 void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
   count_batch_norm(cost, name + ".bn0", *input_norm, input);
   MapShape out = count_conv2d(cost, name + ".conv1", *stem, input);
@@ -208,6 +227,7 @@ void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, c
 ResNet18Options encoder_options(const RunContext& context) {
   ResNet18Options options{context.input.channels, context.input.mel_bins};
   options.recompute_stages = context.recompute_stages;
+  options.memory_budget = context.memory_budget;
   return options;
 }
 

@@ -4,8 +4,10 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
+#include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
 
 namespace fscil {
@@ -21,6 +23,9 @@ struct ResNet18Options {
   // backward (activation recomputation): the same gradients and running statistics to the bit,
   // for about one more forward pass of time and far less memory.
   bool recompute_stages = false;
+  // With a budget (--max-memory), a training pass whose stages would take the process past it
+  // recomputes them as above; the budget counts those passes.
+  std::shared_ptr<MemoryBudget> memory_budget{};
 };
 
 class BasicBlockImpl : public torch::nn::Module {
@@ -56,20 +61,27 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   // Stage `stage` (0-3: its two blocks) on its input.
   torch::Tensor run_stage(int stage, const torch::Tensor& x);
   std::vector<torch::Tensor> stage_parameters(int stage) const;
+  // Bytes a training pass over a batch whose pooled stem map is `pooled` (N x C x H x W) keeps in
+  // the four stages for backward, and the stem map's gradients backward holds beside them: what
+  // recomputing the stages spares, estimated from the shapes.
+  std::int64_t kept_stage_bytes(const torch::Tensor& pooled) const;
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};
   torch::nn::Conv2d stem{nullptr};
   torch::nn::BatchNorm2d stem_norm{nullptr};
   torch::nn::Sequential stages{nullptr};
+  std::array<std::int64_t, 4> widths_;
   std::int64_t embedding_size_;
   bool fold_norms_at_inference_;
   bool recompute_stages_;
+  std::shared_ptr<MemoryBudget> memory_budget_;
 };
 TORCH_MODULE(ResNet18Encoder);
 
 struct RunContext;
-// The shared encoder's options for the run's input (channels, Mel bins) and recomputation.
+// The shared encoder's options for the run's input (channels, Mel bins), recomputation and memory
+// budget.
 ResNet18Options encoder_options(const RunContext& context);
 
 }  // namespace fscil

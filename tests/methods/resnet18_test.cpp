@@ -1,6 +1,7 @@
 #include "methods/common/resnet18.h"
 
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 namespace fscil {
 namespace {
@@ -96,12 +97,14 @@ TEST(ResNet18, TheInputNormHookSeesBn0sStandardisedMapInBothModes) {
 namespace fscil {
 namespace {
 
-// Two encoders with the same initial weights, the second recomputing its stages in backward.
-std::pair<ResNet18Encoder, ResNet18Encoder> recompute_pair() {
+// Two encoders with the same initial weights, the second recomputing its stages in backward
+// (always, or as its memory budget decides).
+std::pair<ResNet18Encoder, ResNet18Encoder> recompute_pair(std::shared_ptr<MemoryBudget> budget = nullptr) {
   ResNet18Options options{3, 16};
   torch::manual_seed(7);
   ResNet18Encoder kept(options);
-  options.recompute_stages = true;
+  options.recompute_stages = budget == nullptr;
+  options.memory_budget = budget;
   torch::manual_seed(7);
   ResNet18Encoder recomputed(options);
   return {kept, recomputed};
@@ -174,6 +177,46 @@ TEST(ResNet18, RecomputationIsOnlyForTrainingWithGradients) {
   recomputed->train();
   torch::NoGradGuard no_grad;
   EXPECT_FALSE(graph_has(recomputed->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedStage"));
+}
+
+TEST(ResNet18, APassThatWouldExceedTheMemoryBudgetRecomputesToTheBit) {
+  const auto budget = std::make_shared<MemoryBudget>(1);
+  auto [kept, recomputed] = recompute_pair(budget);
+  expect_identical_training(kept, recomputed, /*stem_frozen=*/false);
+  EXPECT_EQ(budget->take_exceeding_passes(), 3);
+  EXPECT_EQ(budget->take_exceeding_passes(), 0);
+}
+
+TEST(ResNet18, APassWithinTheMemoryBudgetKeepsItsActivations) {
+  const auto budget = std::make_shared<MemoryBudget>(std::int64_t{1} << 50);
+  auto [kept, within] = recompute_pair(budget);
+  within->train();
+  EXPECT_FALSE(graph_has(within->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedStage"));
+  EXPECT_EQ(budget->take_exceeding_passes(), 0);
+}
+
+// The budget's estimate against what malloc hands out while the four stages run with a graph
+// (LMT108's map after the stem, a batch of 8): within 20%.
+TEST(ResNet18, KeptStageBytesEstimateWhatTheStagesKeep) {
+  ResNet18Encoder encoder(ResNet18Options{3, 64});
+  encoder->train();
+  const torch::Tensor pooled = torch::randn({8, 64, 16, 124}, torch::requires_grad());
+  const auto run_stages = [&] {
+    torch::Tensor out = pooled;
+    for (int stage = 0; stage < 4; ++stage) out = encoder->run_stage(stage, out);
+    return out;
+  };
+  // Bytes malloc has handed out, from its heaps and (large blocks) from mmap.
+  const auto allocated = [] { return static_cast<std::int64_t>(mallinfo2().uordblks + mallinfo2().hblkhd); };
+  run_stages();  // oneDNN's one-time buffers are not activations
+  const std::int64_t before = allocated();
+  const torch::Tensor out = run_stages();
+  const std::int64_t kept = allocated() - before;
+  // The estimate also counts the stem map's gradients, which backward holds beside the stages.
+  const std::int64_t stem_gradients = 2 * 4 * pooled.numel() * 4;
+  const std::int64_t estimate = encoder->kept_stage_bytes(pooled) - stem_gradients;
+  EXPECT_NEAR(static_cast<double>(kept), static_cast<double>(estimate), 0.2 * static_cast<double>(estimate))
+      << "kept " << kept << " bytes, estimated " << estimate;
 }
 
 }  // namespace

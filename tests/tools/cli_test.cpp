@@ -90,6 +90,8 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
                         "feature storage 'disk': expected auto, memory or on-demand");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --threads -1" + common),
                         "--threads: expected a number >= 0");
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --max-memory 4X" + common),
+                        "--max-memory '4X': expected a size such as 4G");
   expect_one_error_line(run_cli("logmel --input a.h5 --output b.h5 --sample-rate nan --n-fft 128 --hop 16 --n-mels 64"),
                         "--sample-rate: expected a number > 0");
   // CLI11's own complaints read like ours: one prefixed line, exit 2.
@@ -452,17 +454,31 @@ TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
 }
 
 TEST(Cli, FeaturesOnDemandAndRecomputedActivationsGiveTheScoresOfTheDefaultRun) {
-  TemporaryDirectory in_memory, on_demand, recomputed;
+  TemporaryDirectory in_memory, on_demand, recomputed, limited;
   // pits-sc reads features by batch, the validation split and raw signals for its mixtures.
   const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
   ASSERT_EQ(run_cli(common + " --features memory --out " + in_memory.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --features on-demand --out " + on_demand.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --set recompute=stages --out " + recomputed.path().string()).exit_code, 0);
+  // A budget below what the process already holds: every training pass recomputes.
+  ASSERT_EQ(run_cli(common + " --max-memory 1M --out " + limited.path().string()).exit_code, 0);
   const auto file = std::filesystem::path("results") / "pits-sc__simtex-mini__seed1.json";
   const std::string kept = scores_in(in_memory.path() / file);
   EXPECT_EQ(std::count(kept.begin(), kept.end(), ':'), 3 * 7);
   EXPECT_EQ(kept, scores_in(on_demand.path() / file));
   EXPECT_EQ(kept, scores_in(recomputed.path() / file));
+  EXPECT_EQ(kept, scores_in(limited.path() / file));
+  const auto text_of = [](const std::filesystem::path& path) {
+    std::ifstream in(path);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string limited_record = text_of(limited.path() / file);
+  EXPECT_NE(limited_record.find("\"max_memory\": \"1048576\""), std::string::npos) << limited_record;
+  const std::string passes_key = "\"max_memory_recomputed_passes\": ";
+  const auto passes = limited_record.find(passes_key);
+  ASSERT_NE(passes, std::string::npos) << limited_record;
+  EXPECT_GT(std::stod(limited_record.substr(passes + passes_key.size())), 0) << "the base session's passes";
+  EXPECT_EQ(text_of(in_memory.path() / file).find("max_memory"), std::string::npos);
 }
 
 TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
