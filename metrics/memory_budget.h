@@ -11,9 +11,9 @@ class MemoryBudget {
  public:
   explicit MemoryBudget(std::int64_t limit_bytes) : limit_bytes_(limit_bytes) {}
   std::int64_t limit_bytes() const { return limit_bytes_; }
-  // True, and counted, when in_use_bytes() + `more_bytes` > the limit.
+  // True, and counted, when in_use_bytes() + `more_bytes` > the limit: the pass recomputes.
   bool would_exceed(std::int64_t more_bytes);
-  // Passes counted since the last call.
+  // Passes the limit made recompute since the last call.
   std::int64_t take_exceeding_passes() { return exceeding_passes_.exchange(0); }
 
  private:
@@ -21,8 +21,10 @@ class MemoryBudget {
   std::atomic<std::int64_t> exceeding_passes_{0};
 };
 
-// Resident bytes the process uses now: its resident set less what malloc holds free for reuse
-// (keep_freed_memory_for_reuse keeps it resident, and the next allocations take it first).
+// Resident bytes the process uses now: its resident set less what malloc holds free. Under
+// keep_freed_memory_for_reuse (metrics/resource_usage.h) freed blocks stay resident in malloc's
+// heaps, and the next allocations take them before the resident set grows, so they are room, not
+// use. 0 where /proc/self/statm cannot be read (then no pass is over the limit).
 std::int64_t in_use_bytes();
 
 }  // namespace fscil

@@ -14,7 +14,7 @@ namespace fscil {
 std::int64_t parse_byte_size(const std::string& text, const std::string& option) {
   const auto refuse = [&] {
     return CliError(fmt::format("{} '{}': expected a size such as 4G, 512M or 4294967296 (bytes; K, M, G, T are "
-                                "powers of 1024), above 0 and at most 1P",
+                                "powers of 1024), above 0 and at most 1024T",
                                 option, shown_text(text)));
   };
   std::size_t digits = 0;
@@ -30,14 +30,15 @@ std::int64_t parse_byte_size(const std::string& text, const std::string& option)
 
   for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   int power = 0;
-  if (!unit.empty()) {
+  if (!unit.empty() && unit != "B") {
     const std::string prefixes = "KMGT";
     const auto at = prefixes.find(unit.front());
     if (at == std::string::npos) throw refuse();
     power = static_cast<int>(at) + 1;
     const std::string rest = unit.substr(1);
-    if (!rest.empty() && rest != "B" && rest != "IB") throw refuse();
+    if (!rest.empty() && rest != "B" && rest != "I" && rest != "IB") throw refuse();
   }
+  if (power == 0 && number.find('.') != std::string::npos) throw refuse();  // a fraction of a byte
   const double bytes = std::floor(value * std::pow(1024.0, power));
   if (!(bytes >= 1) || bytes > std::pow(1024.0, 5)) throw refuse();
   return static_cast<std::int64_t>(bytes);

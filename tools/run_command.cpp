@@ -148,6 +148,8 @@ void run_benchmark(const RunOptions& options) {
   const bool recompute_stages = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
   const std::int64_t memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
+  // One budget for the command: a base handed on between runs keeps its encoder, and with it this.
+  const auto memory_budget = memory_limit > 0 ? std::make_shared<MemoryBudget>(memory_limit) : nullptr;
 
   DatasetRequest request;
   request.data_root = options.data_root;
@@ -256,7 +258,7 @@ void run_benchmark(const RunOptions& options) {
       torch::manual_seed(seeds[s]);
       RunContext context;
       context.recompute_stages = recompute_stages;
-      if (memory_limit > 0) context.memory_budget = std::make_shared<MemoryBudget>(memory_limit);
+      context.memory_budget = memory_budget;
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);
       context.progress = &progress;

@@ -19,8 +19,8 @@ struct RunOptions {
   std::string features = "auto";  // auto | memory | on-demand (datasets/dataset_catalog.h)
   std::string split_mode = "recording";
   std::string class_order = "natural";
-  std::string evaluate_on = "test";
-  std::string max_memory;  // --max-memory SIZE: recompute activations in passes that would pass it  // test | validation: the split every session is scored on
+  std::string evaluate_on = "test";  // test | validation: the split every session is scored on
+  std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
   std::vector<std::string> assignments;  // --set key=value
   bool quiet = false;
 };

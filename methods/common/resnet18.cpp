@@ -167,7 +167,7 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
   }
   out = torch::max_pool2d(out, 3, 2, 1);
   const bool recompute = is_training() && torch::GradMode::is_enabled() &&
-                         (recompute_stages_ || (memory_budget_ && memory_budget_->would_exceed(kept_stage_bytes(out))));
+                         (recompute_stages_ || (memory_budget_ && memory_budget_->would_exceed(pass_bytes_after_stem(out))));
   if (recompute) {
     for (int stage = 0; stage < kStages; ++stage) {
       const std::vector<torch::Tensor> parameters = stage_parameters(stage);
@@ -196,17 +196,20 @@ std::vector<torch::Tensor> ResNet18EncoderImpl::stage_parameters(int stage) cons
   return trained;
 }
 
-std::int64_t ResNet18EncoderImpl::kept_stage_bytes(const torch::Tensor& pooled) const {
+std::int64_t ResNet18EncoderImpl::pass_bytes_after_stem(const torch::Tensor& pooled) const {
   std::int64_t height = pooled.size(2), width = pooled.size(3), in_planes = pooled.size(1), elements = 0;
   for (int stage = 0; stage < kStages; ++stage) {
     if (stage > 0) height = (height + 1) / 2, width = (width + 1) / 2;  // 3x3, stride 2, padding 1
-    // Each block keeps its two convolutions' outputs and its two norms' outputs; a block that
-    // changes the map keeps its shortcut's convolution and norm outputs too.
+    // Each block keeps its two convolutions' outputs (its norms read them) and its two norms'
+    // outputs (ReLU and the next convolution read them; the residual sum and the last ReLU work
+    // in place); a block that changes the map keeps its shortcut convolution's output too (the
+    // shortcut norm's output is summed in and freed).
     const bool shortcut = stage > 0 || in_planes != widths_[stage];
-    elements += (8 + (shortcut ? 2 : 0)) * widths_[stage] * height * width;
+    elements += (8 + (shortcut ? 1 : 0)) * widths_[stage] * height * width;
     in_planes = widths_[stage];
   }
-  // The stem's map (before pooling: twice the pooled height and width) and its norm's gradient.
+  // Backward's gradients of the stem map (twice the pooled height and width) at its norm's output
+  // and at its convolution's output.
   elements += 2 * 4 * pooled.size(1) * pooled.size(2) * pooled.size(3);
   return elements * pooled.size(0) * static_cast<std::int64_t>(pooled.element_size());
 }

@@ -61,10 +61,11 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   // Stage `stage` (0-3: its two blocks) on its input.
   torch::Tensor run_stage(int stage, const torch::Tensor& x);
   std::vector<torch::Tensor> stage_parameters(int stage) const;
-  // Bytes a training pass over a batch whose pooled stem map is `pooled` (N x C x H x W) keeps in
-  // the four stages for backward, and the stem map's gradients backward holds beside them: what
-  // recomputing the stages spares, estimated from the shapes.
-  std::int64_t kept_stage_bytes(const torch::Tensor& pooled) const;
+  // Bytes a training pass adds, from its pooled stem map `pooled` (N x C x H x W) on, unless it
+  // recomputes: what the four stages keep for backward, and the two gradients of the stem's map
+  // (before pooling) that backward then holds. Estimated from the shapes; the stem's own maps
+  // already exist when this is asked.
+  std::int64_t pass_bytes_after_stem(const torch::Tensor& pooled) const;
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};

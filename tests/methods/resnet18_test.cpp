@@ -197,7 +197,7 @@ TEST(ResNet18, APassWithinTheMemoryBudgetKeepsItsActivations) {
 
 // The budget's estimate against what malloc hands out while the four stages run with a graph
 // (LMT108's map after the stem, a batch of 8): within 20%.
-TEST(ResNet18, KeptStageBytesEstimateWhatTheStagesKeep) {
+TEST(ResNet18, PassBytesAfterTheStemEstimateWhatTheStagesKeep) {
   ResNet18Encoder encoder(ResNet18Options{3, 64});
   encoder->train();
   const torch::Tensor pooled = torch::randn({8, 64, 16, 124}, torch::requires_grad());
@@ -214,7 +214,7 @@ TEST(ResNet18, KeptStageBytesEstimateWhatTheStagesKeep) {
   const std::int64_t kept = allocated() - before;
   // The estimate also counts the stem map's gradients, which backward holds beside the stages.
   const std::int64_t stem_gradients = 2 * 4 * pooled.numel() * 4;
-  const std::int64_t estimate = encoder->kept_stage_bytes(pooled) - stem_gradients;
+  const std::int64_t estimate = encoder->pass_bytes_after_stem(pooled) - stem_gradients;
   EXPECT_NEAR(static_cast<double>(kept), static_cast<double>(estimate), 0.2 * static_cast<double>(estimate))
       << "kept " << kept << " bytes, estimated " << estimate;
 }
