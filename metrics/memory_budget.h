@@ -10,7 +10,6 @@ namespace fscil {
 class MemoryBudget {
  public:
   explicit MemoryBudget(std::int64_t limit_bytes) : limit_bytes_(limit_bytes) {}
-  std::int64_t limit_bytes() const { return limit_bytes_; }
   // True, and counted, when in_use_bytes() + `more_bytes` > the limit: the pass recomputes.
   bool would_exceed(std::int64_t more_bytes);
   // Passes the limit made recompute since the last call.
