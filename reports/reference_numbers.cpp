@@ -19,7 +19,15 @@ namespace fscil {
 
 namespace {
 
-constexpr const char* kHeader = "method,dataset,profile,seed,threads,metric,expected,tolerance";
+constexpr const char* kHeader = "method,dataset,profile,seed,threads,kernels,metric,expected,tolerance";
+constexpr std::size_t kFields = 9;
+// Files written before the kernels were recorded: read with empty kernels.
+constexpr const char* kHeaderWithoutKernels = "method,dataset,profile,seed,threads,metric,expected,tolerance";
+
+std::string kernels_of(const RunRecord& record) {
+  const auto found = record.machine.find("kernels");
+  return found != record.machine.end() ? found->second : std::string();
+}
 
 // A whole number from `low` to T's largest filling the field: read as a double, a seed above 2^53
 // would round and a value beyond T's range could not be converted at all.
@@ -57,8 +65,8 @@ std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& re
                                     record.method, record.dataset, record.seed, record.evaluated_on));
     }
     for (const auto& [metric, value] : metrics_of(record)) {
-      values.push_back({record.method, record.dataset, record.profile, record.seed, record.threads, metric, value,
-                        tolerance});
+      values.push_back({record.method, record.dataset, record.profile, record.seed, record.threads, kernels_of(record),
+                        metric, value, tolerance});
     }
   }
   return values;
@@ -71,8 +79,8 @@ std::string render_reference_csv(const std::vector<ReferenceValue>& values, cons
       "# Regenerate (never in CI): {}\n{}\n",
       regenerate_command, kHeader);
   for (const auto& v : values) {
-    out += fmt::format("{},{},{},{},{},{},{:.4f},{:.4f}\n", v.method, v.dataset, v.profile, v.seed, v.threads, v.metric,
-                       v.expected, v.tolerance);
+    out += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f}\n", v.method, v.dataset, v.profile, v.seed, v.threads,
+                       v.kernels, v.metric, v.expected, v.tolerance);
   }
   return out;
 }
@@ -82,26 +90,30 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
     throw ReportError(fmt::format("{}: cannot read the reference file", path.string()));
   }
   std::vector<ReferenceValue> values;
-  bool header_seen = false;
+  const char* header = nullptr;
   int line_number = 0;
   for (const std::string& line : csv_lines(read_text_file(path))) {
     ++line_number;
     if (line.empty() || line[0] == '#') continue;
     const std::string where = fmt::format("{}:{}", path.string(), line_number);
-    if (!header_seen) {
-      if (line != kHeader) throw ReportError(fmt::format("{}: header '{}', expected '{}'", where, shown_text(line), kHeader));
-      header_seen = true;
+    if (header == nullptr) {
+      if (line != kHeader && line != kHeaderWithoutKernels) {
+        throw ReportError(fmt::format("{}: header '{}', expected '{}'", where, shown_text(line), kHeader));
+      }
+      header = line == kHeader ? kHeader : kHeaderWithoutKernels;
       continue;
     }
-    const auto fields = split_fields(line);
-    if (fields.size() != 8) {
-      throw ReportError(fmt::format("{}: {} fields, expected 8 ({})", where, fields.size(), kHeader));
+    auto fields = split_fields(line);
+    const std::size_t fields_expected = header == kHeader ? kFields : kFields - 1;
+    if (fields.size() != fields_expected) {
+      throw ReportError(fmt::format("{}: {} fields, expected {} ({})", where, fields.size(), fields_expected, header));
     }
-    ReferenceValue value{fields[0], fields[1], fields[2], 0, 0, fields[5], 0, 0};
+    if (header == kHeaderWithoutKernels) fields.insert(fields.begin() + 5, std::string());
+    ReferenceValue value{fields[0], fields[1], fields[2], 0, 0, fields[5], fields[6], 0, 0};
     value.seed = whole_number<std::uint64_t>(fields[3], 0, where + " seed");
     value.threads = whole_number<int>(fields[4], 1, where + " threads");
-    value.expected = finite_number(fields[6], where + " expected");
-    value.tolerance = finite_number(fields[7], where + " tolerance");
+    value.expected = finite_number(fields[7], where + " expected");
+    value.tolerance = finite_number(fields[8], where + " tolerance");
     if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));
     values.push_back(std::move(value));
   }
@@ -135,6 +147,15 @@ ReferenceCheck check_against_reference(const std::vector<RunRecord>& records,
     if (run.profile != expected.profile || run.threads != expected.threads) {
       check.failures.push_back(fmt::format("{}: ran with profile {} and {} threads, the reference with {} and {}",
                                            run_name, run.profile, run.threads, expected.profile, expected.threads));
+      unusable_runs.insert(run_name);
+      continue;
+    }
+    if (!expected.kernels.empty() && kernels_of(run) != expected.kernels) {
+      const std::string kernels = kernels_of(run).empty() ? "unrecorded kernels" : "kernels " + kernels_of(run);
+      check.failures.push_back(fmt::format(
+          "{}: ran with {}, the reference with kernels {}; their rounding differs and a short run amplifies it, "
+          "so its values are not compared (set the reference's kernels: docs/architecture.md, Reference numbers)",
+          run_name, kernels, expected.kernels));
       unusable_runs.insert(run_name);
       continue;
     }

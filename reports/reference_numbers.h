@@ -17,6 +17,9 @@ struct ReferenceValue {
   std::string profile;
   std::uint64_t seed = 0;
   int threads = 0;
+  // The kernels the value was made with (numeric_kernels(), tools/machine_info.h); empty in
+  // files written before they were recorded, which compare with runs on any kernels.
+  std::string kernels;
   std::string metric;
   double expected = 0;
   double tolerance = 0;
@@ -31,7 +34,9 @@ std::string render_reference_csv(const std::vector<ReferenceValue>& values, cons
 std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path);
 
 // What a comparison of result files with references found: one line per value out of
-// tolerance or run missing, empty when everything agrees.
+// tolerance, per run missing and per run made with other threads, profile or kernels (whose
+// values are not compared: rounding differs, and a short run amplifies it). Empty when
+// everything agrees.
 struct ReferenceCheck {
   std::vector<std::string> failures;
   std::size_t values_checked = 0;

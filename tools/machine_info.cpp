@@ -1,10 +1,12 @@
 #include "tools/machine_info.h"
 
+#include <ATen/Version.h>
 #include <dlfcn.h>
 #include <fmt/format.h>
 #include <torch/version.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <fstream>
@@ -37,6 +39,44 @@ std::string openblas_config() {
   return get_config != nullptr ? get_config() : "not loaded (another BLAS)";
 }
 
+// The kernels each numeric library chose for this CPU: ATen's vectorised CPU capability, OpenBLAS's
+// core and oneDNN's instruction set. Their rounding differs, and a short training amplifies it
+// (docs/architecture.md, "Reference numbers"). ATEN_CPU_CAPABILITY, OPENBLAS_CORETYPE and
+// ONEDNN_MAX_CPU_ISA lower them.
+std::string aten_capability() {
+  const std::string config = at::show_config();
+  const std::string label = "CPU capability usage: ";
+  const auto start = config.find(label);
+  if (start == std::string::npos) return "unknown";
+  std::string capability = config.substr(start + label.size(), config.find('\n', start) - start - label.size());
+  std::replace(capability.begin(), capability.end(), ' ', '_');  // "NO AVX" as one word
+  return capability;
+}
+
+std::string openblas_core() {
+  using GetCore = const char* (*)();
+  const auto get_core = reinterpret_cast<GetCore>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  return get_core != nullptr ? get_core() : "none";
+}
+
+std::string onednn_isa() {
+  using GetIsa = int (*)();
+  const auto get_isa = reinterpret_cast<GetIsa>(dlsym(RTLD_DEFAULT, "dnnl_get_effective_cpu_isa"));
+  if (get_isa == nullptr) return "none";
+  // dnnl_cpu_isa_t of oneDNN 2.x (oneapi/dnnl/dnnl_types.h).
+  switch (get_isa()) {
+    case 0x1: return "sse41";
+    case 0x3: return "avx";
+    case 0x7: return "avx2";
+    case 0x407: return "avx2_vnni";
+    case 0x27: return "avx512_core";
+    case 0x67: return "avx512_core_vnni";
+    case 0xe7: return "avx512_core_bf16";
+    case 0x3e7: return "avx512_core_amx";
+    default: return fmt::format("isa {:#x}", get_isa());
+  }
+}
+
 std::string compiler_version() {
 #if defined(__clang__)
   return "Clang " __clang_version__;
@@ -53,6 +93,10 @@ std::map<std::string, std::string> library_versions() {
   return versions;
 }
 
+std::string numeric_kernels() {
+  return fmt::format("aten={} openblas={} onednn={}", aten_capability(), openblas_core(), onednn_isa());
+}
+
 std::map<std::string, std::string> describe_machine() {
   std::array<char, 256> host{};
   gethostname(host.data(), host.size() - 1);
@@ -62,7 +106,8 @@ std::map<std::string, std::string> describe_machine() {
        {"hardware_threads", std::to_string(std::thread::hardware_concurrency())},
        {"compiler", compiler_version()},
        {"cpu", command_output("grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//'")},
-       {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")}});
+       {"blas", command_output("readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null")},
+       {"kernels", numeric_kernels()}});
   return machine;
 }
 
@@ -83,6 +128,7 @@ std::string code_digest(const std::map<std::string, std::string>& machine) {
 std::string version_text() {
   std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());
   for (const auto& [library, version] : library_versions()) text += fmt::format("  {:<11}{}\n", library, version);
+  text += fmt::format("  {:<11}{}\n", "kernels", numeric_kernels());
   return text + fmt::format("  {:<11}{}", "compiler", compiler_version());
 }
 

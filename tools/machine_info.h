@@ -8,6 +8,10 @@ namespace fscil {
 std::map<std::string, std::string> describe_machine();
 // LibTorch, OpenBLAS, FFTW, HDF5 and libsndfile as this process runs them.
 std::map<std::string, std::string> library_versions();
+// The kernels ATen, OpenBLAS and oneDNN chose for this CPU, e.g. "aten=AVX2 openblas=Zen
+// onednn=avx2" (no commas: it is a field of reference files). Runs agree to the bit only when
+// these and the thread count agree.
+std::string numeric_kernels();
 // The harness's release (CMake's project version).
 std::string harness_version();
 // The git commit this binary was built from (with "-dirty" when tracked files differed from it),
@@ -18,7 +22,7 @@ std::string source_commit();
 // that trains a cached base (protocols/stage_cache.h). Any rebuild that changes the code changes
 // it. Empty when the executable cannot be read.
 std::string code_digest(const std::map<std::string, std::string>& machine);
-// What `fscil-bench --version` prints: release, commit, libraries and compiler, a line each.
+// What `fscil-bench --version` prints: release, commit, libraries, kernels and compiler, a line each.
 std::string version_text();
 
 }  // namespace fscil

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The protocol whose numbers reports/reference/simtex-mini-smoke.csv stores: every registered
-# method on simtex-mini, smoke profile, seeds 1 and 2, 2 threads.
+# method on simtex-mini, smoke profile, seeds 1 and 2, 2 threads, on AVX2 kernels.
 #   bash tools/reference_protocol.sh check [FSCIL_BENCH]       run it, compare (ctest and CI)
 #   bash tools/reference_protocol.sh regenerate [FSCIL_BENCH]  run it, overwrite the stored numbers
 set -euo pipefail
@@ -9,6 +9,11 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 bench=${2:-$root/build/tools/fscil-bench}
 reference=$root/reports/reference/simtex-mini-smoke.csv
 case $mode in check | regenerate) ;; *) echo "usage: $0 check|regenerate [fscil-bench]" >&2; exit 2 ;; esac
+
+# A short run's accuracies move by up to 10 points when any library's kernels round differently
+# (docs/architecture.md, "Reference numbers"), so every library is held to the AVX2 kernels that
+# each x86-64 machine here has, whatever else its CPU offers; the result files record them.
+export ATEN_CPU_CAPABILITY=avx2 OPENBLAS_CORETYPE=Haswell ONEDNN_MAX_CPU_ISA=AVX2
 
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT

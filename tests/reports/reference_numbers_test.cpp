@@ -71,6 +71,45 @@ TEST(ReferenceNumbers, MissingRunsAndOtherProtocolsFail) {
             std::string::npos);
 }
 
+TEST(ReferenceNumbers, RunsOnOtherKernelsAreNotComparedButNamed) {
+  RunRecord avx512 = run_of("prototype", 1, {60, 50});
+  avx512.machine["kernels"] = "aten=AVX512 openblas=SkylakeX onednn=avx512_core";
+  const auto reference = reference_values_of({avx512}, 2.0);
+  EXPECT_EQ(reference.at(0).kernels, "aten=AVX512 openblas=SkylakeX onednn=avx512_core");
+  TemporaryDirectory directory;
+  const auto path = directory.path() / "reference.csv";
+  write_file_atomically(path, render_reference_csv(reference, "bash regenerate.sh"));
+  const auto loaded = load_reference_csv(path);
+  EXPECT_EQ(loaded.at(0).kernels, reference.at(0).kernels);
+
+  RunRecord avx2 = run_of("prototype", 1, {60, 50});
+  avx2.machine["kernels"] = "aten=AVX2 openblas=Zen onednn=avx2";
+  const ReferenceCheck other = check_against_reference({avx2}, loaded);
+  ASSERT_EQ(other.failures.size(), 1u);
+  EXPECT_EQ(other.values_checked, 0u);
+  EXPECT_NE(other.failures[0].find("prototype on simtex-mini seed 1: ran with kernels aten=AVX2 openblas=Zen "
+                                   "onednn=avx2, the reference with kernels aten=AVX512 openblas=SkylakeX "
+                                   "onednn=avx512_core; their rounding differs"),
+            std::string::npos);
+  const ReferenceCheck unrecorded = check_against_reference({run_of("prototype", 1, {60, 50})}, loaded);
+  EXPECT_NE(unrecorded.failures.at(0).find("ran with unrecorded kernels"), std::string::npos);
+  avx2.machine["kernels"] = reference.at(0).kernels;
+  EXPECT_TRUE(check_against_reference({avx2}, loaded).failures.empty());
+
+  // A file written before kernels were recorded compares with runs on any kernels.
+  std::ofstream(path) << "method,dataset,profile,seed,threads,metric,expected,tolerance\n"
+                      << "prototype,simtex-mini,smoke,1,2,acc_0,60,2\n";
+  const auto old = load_reference_csv(path);
+  EXPECT_EQ(old.at(0).kernels, "");
+  EXPECT_EQ(check_against_reference({avx512}, old).values_checked, 1u);
+  EXPECT_TRUE(check_against_reference({avx512}, old).failures.empty());
+  std::ofstream(path) << "method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\n"
+                      << "prototype,simtex-mini,smoke,1,2,acc_0,60,2\n";
+  EXPECT_NE(message_of([&] { load_reference_csv(path); })
+                .find("reference.csv:2: 8 fields, expected 9 (method,dataset,profile,seed,threads,kernels,metric,"),
+            std::string::npos);
+}
+
 TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
   TemporaryDirectory directory;
   const auto path = directory.path() / "reference.csv";

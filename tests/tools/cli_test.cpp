@@ -68,6 +68,18 @@ TEST(Cli, VersionNamesTheReleaseTheCommitAndTheLibraries) {
   }
 }
 
+// The kernels each library chose are named, and lowered by the variables the reference protocol
+// sets (tools/reference_protocol.sh).
+TEST(Cli, VersionNamesTheKernelsTheLibrariesChose) {
+  const CommandResult lowered =
+      run_cli("--version", "ATEN_CPU_CAPABILITY=default OPENBLAS_CORETYPE=Haswell ONEDNN_MAX_CPU_ISA=SSE41");
+  EXPECT_EQ(lowered.exit_code, 0) << lowered.output;
+  EXPECT_NE(lowered.output.find("  kernels    aten=NO_AVX openblas=Haswell onednn=sse41\n"), std::string::npos)
+      << lowered.output;
+  const CommandResult own = run_cli("--version");
+  EXPECT_NE(own.output.find("  kernels    aten=AVX"), std::string::npos) << own.output;
+}
+
 TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   TemporaryDirectory out;
   const std::string common = " --quiet --no-cache --out " + out.path().string();
