@@ -31,12 +31,13 @@ std::string command_output(const std::string& command) {
   return output;
 }
 
-// OpenBLAS names its version and build in openblas_get_config(); the BLAS behind libblas.so.3 is
-// chosen by Debian's alternatives at run time, so the symbol is looked up, not linked.
-std::string openblas_config() {
-  using GetConfig = const char* (*)();
-  const auto get_config = reinterpret_cast<GetConfig>(dlsym(RTLD_DEFAULT, "openblas_get_config"));
-  return get_config != nullptr ? get_config() : "not loaded (another BLAS)";
+// What a library's `const char* name()` returns, or `absent`. The BLAS behind libblas.so.3 is
+// chosen by Debian's alternatives at run time and oneDNN comes with LibTorch, so their symbols
+// are looked up, not linked.
+std::string text_of(const char* symbol, const char* absent) {
+  using GetText = const char* (*)();
+  const auto get_text = reinterpret_cast<GetText>(dlsym(RTLD_DEFAULT, symbol));
+  return get_text != nullptr ? get_text() : absent;
 }
 
 // The kernels each numeric library chose for this CPU: ATen's vectorised CPU capability, OpenBLAS's
@@ -53,12 +54,6 @@ std::string aten_capability() {
   return capability;
 }
 
-std::string openblas_core() {
-  using GetCore = const char* (*)();
-  const auto get_core = reinterpret_cast<GetCore>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
-  return get_core != nullptr ? get_core() : "none";
-}
-
 std::string onednn_isa() {
   using GetIsa = int (*)();
   const auto get_isa = reinterpret_cast<GetIsa>(dlsym(RTLD_DEFAULT, "dnnl_get_effective_cpu_isa"));
@@ -73,7 +68,7 @@ std::string onednn_isa() {
     case 0x67: return "avx512_core_vnni";
     case 0xe7: return "avx512_core_bf16";
     case 0x3e7: return "avx512_core_amx";
-    default: return fmt::format("isa {:#x}", get_isa());
+    default: return fmt::format("isa_{:#x}", get_isa());
   }
 }
 
@@ -89,12 +84,14 @@ std::string compiler_version() {
 std::map<std::string, std::string> library_versions() {
   auto versions = data_library_versions();
   versions["libtorch"] = TORCH_VERSION;
-  versions["openblas"] = openblas_config();
+  // OpenBLAS names its version and build; another BLAS has no such function.
+  versions["openblas"] = text_of("openblas_get_config", "not loaded (another BLAS)");
   return versions;
 }
 
 std::string numeric_kernels() {
-  return fmt::format("aten={} openblas={} onednn={}", aten_capability(), openblas_core(), onednn_isa());
+  return fmt::format("aten={} openblas={} onednn={}", aten_capability(), text_of("openblas_get_corename", "none"),
+                     onednn_isa());
 }
 
 std::map<std::string, std::string> describe_machine() {
