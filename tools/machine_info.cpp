@@ -31,19 +31,17 @@ std::string command_output(const std::string& command) {
   return output;
 }
 
-// What a library's `const char* name()` returns, or `absent`. The BLAS behind libblas.so.3 is
-// chosen by Debian's alternatives at run time and oneDNN comes with LibTorch, so their symbols
-// are looked up, not linked.
+// What OpenBLAS's `const char* symbol()` returns, or `absent`: the BLAS behind libblas.so.3 is
+// chosen by Debian's alternatives at run time, so its functions are looked up, not linked.
 std::string text_of(const char* symbol, const char* absent) {
   using GetText = const char* (*)();
   const auto get_text = reinterpret_cast<GetText>(dlsym(RTLD_DEFAULT, symbol));
-  return get_text != nullptr ? get_text() : absent;
+  const char* text = get_text != nullptr ? get_text() : nullptr;
+  return text != nullptr ? text : absent;
 }
 
-// The kernels each numeric library chose for this CPU: ATen's vectorised CPU capability, OpenBLAS's
-// core and oneDNN's instruction set. Their rounding differs, and a short training amplifies it
-// (docs/architecture.md, "Reference numbers"). ATEN_CPU_CAPABILITY, OPENBLAS_CORETYPE and
-// ONEDNN_MAX_CPU_ISA lower them.
+// LibTorch 1.13 exports no getter for the capability its CPU kernels dispatch to, but names it in
+// its configuration text.
 std::string aten_capability() {
   const std::string config = at::show_config();
   const std::string label = "CPU capability usage: ";
@@ -54,12 +52,14 @@ std::string aten_capability() {
   return capability;
 }
 
+// oneDNN comes with LibTorch, which does not install its headers: looked up, not linked.
 std::string onednn_isa() {
   using GetIsa = int (*)();
   const auto get_isa = reinterpret_cast<GetIsa>(dlsym(RTLD_DEFAULT, "dnnl_get_effective_cpu_isa"));
   if (get_isa == nullptr) return "none";
+  const int isa = get_isa();
   // dnnl_cpu_isa_t of oneDNN 2.x (oneapi/dnnl/dnnl_types.h).
-  switch (get_isa()) {
+  switch (isa) {
     case 0x1: return "sse41";
     case 0x3: return "avx";
     case 0x7: return "avx2";
@@ -68,7 +68,7 @@ std::string onednn_isa() {
     case 0x67: return "avx512_core_vnni";
     case 0xe7: return "avx512_core_bf16";
     case 0x3e7: return "avx512_core_amx";
-    default: return fmt::format("isa_{:#x}", get_isa());
+    default: return fmt::format("isa_{:#x}", isa);
   }
 }
 
@@ -89,6 +89,8 @@ std::map<std::string, std::string> library_versions() {
   return versions;
 }
 
+// The environment variables ATEN_CPU_CAPABILITY, OPENBLAS_CORETYPE and ONEDNN_MAX_CPU_ISA lower
+// what each library picks; the reference protocol sets them (README, "Reference numbers").
 std::string numeric_kernels() {
   return fmt::format("aten={} openblas={} onednn={}", aten_capability(), text_of("openblas_get_corename", "none"),
                      onednn_isa());
@@ -116,7 +118,7 @@ std::string code_digest(const std::map<std::string, std::string>& machine) {
   std::ifstream executable("/proc/self/exe", std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(executable)), std::istreambuf_iterator<char>());
   if (!executable.good() && !executable.eof()) return std::string();
-  // Libraries as loaded, the CPU and the BLAS behind libblas.so.3: all change float results.
+  // Libraries as loaded, the CPU, the BLAS behind libblas.so.3 and the kernels: all change float results.
   std::map<std::string, std::string> runtime = machine;
   runtime.erase("host");
   return stable_hash(bytes) + "+" + stable_hash(runtime);

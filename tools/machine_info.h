@@ -18,7 +18,7 @@ std::string harness_version();
 // or "unknown"; written at build time by tools/build_info.cmake.
 std::string source_commit();
 // A digest of this executable's bytes and of what it runs on (`machine`, describe_machine()'s
-// result, but the host name: libraries, CPU, BLAS, hardware threads): the identity of the code
+// result, but the host name: libraries, CPU, BLAS, kernels, hardware threads): the identity of the code
 // that trains a cached base (protocols/stage_cache.h). Any rebuild that changes the code changes
 // it. Empty when the executable cannot be read.
 std::string code_digest(const std::map<std::string, std::string>& machine);

@@ -26,8 +26,8 @@ int check_reference(const std::string& results, const std::string& reference) {
     fmt::print("all {} reference values of {} hold in {}\n", check.values_checked, reference, results);
     return 0;
   }
-  fmt::print("{} of {} reference values failed; if the change is intended, regenerate with: {}\n",
-             check.failures.size(), expected.size(), kRegenerateReferences);
+  fmt::print("{} failures, {} of {} reference values compared; if a changed value is intended, regenerate with: {}\n",
+             check.failures.size(), check.values_checked, expected.size(), kRegenerateReferences);
   return 1;
 }
 

@@ -7,7 +7,7 @@
 
 namespace fscil {
 
-// A smoke-profile run on two threads with only its session accuracies filled in.
+// A smoke-profile run on two threads and AVX2 kernels with only its session accuracies filled in.
 inline RunRecord run_with_accuracies(const std::string& method, const std::string& dataset, std::uint64_t seed,
                                      const std::vector<double>& accuracies) {
   RunRecord record;
@@ -16,6 +16,7 @@ inline RunRecord run_with_accuracies(const std::string& method, const std::strin
   record.profile = "smoke";
   record.seed = seed;
   record.threads = 2;
+  record.machine["kernels"] = "aten=AVX2 openblas=Haswell onednn=avx2";
   for (std::size_t s = 0; s < accuracies.size(); ++s) {
     SessionRecord session;
     session.session = static_cast<int>(s);

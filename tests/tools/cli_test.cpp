@@ -77,6 +77,7 @@ TEST(Cli, VersionNamesTheKernelsTheLibrariesChose) {
   EXPECT_NE(lowered.output.find("  kernels    aten=NO_AVX openblas=Haswell onednn=sse41\n"), std::string::npos)
       << lowered.output;
   const CommandResult own = run_cli("--version");
+  EXPECT_EQ(own.exit_code, 0) << own.output;
   EXPECT_NE(own.output.find("  kernels    aten=AVX"), std::string::npos) << own.output;
 }
 
