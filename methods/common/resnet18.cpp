@@ -4,6 +4,7 @@
 
 #include "methods/common/module_cost.h"
 #include "methods/common/running_statistics_guard.h"
+#include "methods/common/unrolled_convolution.h"
 #include "methods/method.h"
 
 namespace fscil {
@@ -23,13 +24,44 @@ std::pair<torch::Tensor, torch::Tensor> inference_affine(const nn::BatchNorm2d& 
   return {scale, norm->bias - norm->running_mean * scale};
 }
 
+// conv's convolution of x with `weight` and `bias` (its own, or ones a norm was folded into).
+torch::Tensor convolve(const nn::Conv2d& conv, const torch::Tensor& x, const torch::Tensor& weight,
+                       const torch::Tensor& bias) {
+  const auto& options = conv->options;
+  return torch::conv2d(x, weight, bias, *options.stride(), *c10::get<torch::ExpandingArray<2>>(options.padding()),
+                       *options.dilation(), options.groups());
+}
+
+// conv's convolution of x in training, unrolled into one matrix product on the tiny maps where
+// that is faster. Only in training: a matrix product's rounding of one sample depends on the
+// batch's size (OpenBLAS picks its kernels by shape), and outside training an embedding must not
+// depend on the samples beside it (batch norms use running statistics there; oneDNN's
+// convolutions do not depend on the batch). In training the batch norms mix the batch anyway.
+torch::Tensor convolve_in_training(const nn::Conv2d& conv, const torch::Tensor& x) {
+  const auto& options = conv->options;
+  const torch::Tensor& weight = conv->weight;
+  const auto kernel = *options.kernel_size(), stride = *options.stride(), dilation = *options.dilation();
+  const auto padding = *c10::get<torch::ExpandingArray<2>>(options.padding());
+  const bool square = kernel[0] == kernel[1] && stride[0] == stride[1] && padding[0] == padding[1];
+  if (square && dilation[0] == 1 && dilation[1] == 1 && options.groups() == 1) {
+    const auto out = [&](std::int64_t size) { return (size + 2 * padding[0] - kernel[0]) / stride[0] + 1; };
+    if (unrolling_pays(x.size(2) * x.size(3), out(x.size(2)) * out(x.size(3)), kernel[0])) {
+      return unrolled_conv2d(x, weight, stride[0], padding[0]);
+    }
+  }
+  return convolve(conv, x, weight, {});
+}
+
+// The stem, its norm and the max pool run on channels-last maps (oneDNN's stem kernels and ATen's
+// pooling are faster there: docs/architecture.md, "The training step"); the stages get contiguous
+// maps back.
+torch::Tensor channels_last(const torch::Tensor& map) { return map.contiguous(at::MemoryFormat::ChannelsLast); }
+
 // conv then norm at inference, as one convolution: the norm's scale folds into the weights and its
 // shift becomes the bias.
 torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& norm, const torch::Tensor& x) {
   const auto [scale, shift] = inference_affine(norm);
-  const auto& options = conv->options;
-  return torch::conv2d(x, conv->weight * scale.view({-1, 1, 1, 1}), shift, *options.stride(),
-                       *c10::get<torch::ExpandingArray<2>>(options.padding()), *options.dilation(), options.groups());
+  return convolve(conv, x, conv->weight * scale.view({-1, 1, 1, 1}), shift);
 }
 
 // A ResNet stage whose activations are not kept: forward runs it without a graph (autograd
@@ -106,9 +138,13 @@ torch::Tensor BasicBlockImpl::forward(const torch::Tensor& x) {
     }
     return out.relu_();
   }
-  torch::Tensor out = bn1(conv1(x)).relu_();
-  out = bn2(conv2(out));
-  out += downsample ? downsample->forward(x) : x;
+  // Training, or inference without folding (bn at running statistics, so no unrolling).
+  const auto convolved = [&](const nn::Conv2d& conv, const torch::Tensor& input) {
+    return is_training() ? convolve_in_training(conv, input) : convolve(conv, input, conv->weight, {});
+  };
+  torch::Tensor out = bn1(convolved(conv1, x)).relu_();
+  out = bn2(convolved(conv2, out));
+  out += downsample ? shortcut_norm_(convolved(shortcut_conv_, x)) : x;
   return out.relu_();
 }
 
@@ -158,14 +194,14 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
     const auto [scale, shift] = inference_affine(input_norm);
     torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
     if (after_input_norm) normalised = after_input_norm(normalised);
-    out = folded_conv_norm(stem, stem_norm, normalised).relu_();
+    out = folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_();
   } else {
     // bn0 normalises each Mel bin, so the bins become the channel axis for it.
     out = input_norm(x.transpose(1, 2)).transpose(1, 2);
     if (after_input_norm) out = after_input_norm(out);
-    out = stem_norm(stem(out)).relu_();
+    out = stem_norm(stem(channels_last(out))).relu_();
   }
-  out = torch::max_pool2d(out, 3, 2, 1);
+  out = torch::max_pool2d(out, 3, 2, 1).contiguous();
   const bool recompute = is_training() && torch::GradMode::is_enabled() &&
                          (recompute_stages_ || (memory_budget_ && memory_budget_->would_exceed(pass_bytes_after_stem(out))));
   if (recompute) {
