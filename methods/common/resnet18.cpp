@@ -24,32 +24,20 @@ std::pair<torch::Tensor, torch::Tensor> inference_affine(const nn::BatchNorm2d& 
   return {scale, norm->bias - norm->running_mean * scale};
 }
 
-// conv's convolution of x with `weight` and `bias` (its own, or ones a norm was folded into).
-torch::Tensor convolve(const nn::Conv2d& conv, const torch::Tensor& x, const torch::Tensor& weight,
-                       const torch::Tensor& bias) {
-  const auto& options = conv->options;
-  return torch::conv2d(x, weight, bias, *options.stride(), *c10::get<torch::ExpandingArray<2>>(options.padding()),
-                       *options.dilation(), options.groups());
-}
-
 // conv's convolution of x in training, unrolled into one matrix product on the tiny maps where
-// that is faster. Only in training: a matrix product's rounding of one sample depends on the
-// batch's size (OpenBLAS picks its kernels by shape), and outside training an embedding must not
-// depend on the samples beside it (batch norms use running statistics there; oneDNN's
-// convolutions do not depend on the batch). In training the batch norms mix the batch anyway.
-torch::Tensor convolve_in_training(const nn::Conv2d& conv, const torch::Tensor& x) {
+// that is faster. Only in training, where the step's time goes (docs/architecture.md, "The
+// training step"); inference stays on oneDNN.
+torch::Tensor convolve_in_training(nn::Conv2d& conv, const torch::Tensor& x) {
   const auto& options = conv->options;
-  const torch::Tensor& weight = conv->weight;
   const auto kernel = *options.kernel_size(), stride = *options.stride(), dilation = *options.dilation();
   const auto padding = *c10::get<torch::ExpandingArray<2>>(options.padding());
-  const bool square = kernel[0] == kernel[1] && stride[0] == stride[1] && padding[0] == padding[1];
-  if (square && dilation[0] == 1 && dilation[1] == 1 && options.groups() == 1) {
-    const auto out = [&](std::int64_t size) { return (size + 2 * padding[0] - kernel[0]) / stride[0] + 1; };
-    if (unrolling_pays(x.size(2) * x.size(3), out(x.size(2)) * out(x.size(3)), kernel[0])) {
-      return unrolled_conv2d(x, weight, stride[0], padding[0]);
-    }
+  const bool same_in_both_axes = kernel[0] == kernel[1] && stride[0] == stride[1] && padding[0] == padding[1];
+  const bool plain = !options.bias() && dilation[0] == 1 && dilation[1] == 1 && options.groups() == 1 &&
+                     c10::get_if<torch::enumtype::kZeros>(&options.padding_mode()) != nullptr;
+  if (same_in_both_axes && plain && unrolling_pays(x.size(2), x.size(3), kernel[0], stride[0], padding[0])) {
+    return unrolled_conv2d(x, conv->weight, stride[0], padding[0]);
   }
-  return convolve(conv, x, weight, {});
+  return conv->forward(x);
 }
 
 // The stem, its norm and the max pool run on channels-last maps (oneDNN's stem kernels and ATen's
@@ -61,7 +49,9 @@ torch::Tensor channels_last(const torch::Tensor& map) { return map.contiguous(at
 // shift becomes the bias.
 torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& norm, const torch::Tensor& x) {
   const auto [scale, shift] = inference_affine(norm);
-  return convolve(conv, x, conv->weight * scale.view({-1, 1, 1, 1}), shift);
+  const auto& options = conv->options;
+  return torch::conv2d(x, conv->weight * scale.view({-1, 1, 1, 1}), shift, *options.stride(),
+                       *c10::get<torch::ExpandingArray<2>>(options.padding()), *options.dilation(), options.groups());
 }
 
 // A ResNet stage whose activations are not kept: forward runs it without a graph (autograd
@@ -138,9 +128,9 @@ torch::Tensor BasicBlockImpl::forward(const torch::Tensor& x) {
     }
     return out.relu_();
   }
-  // Training, or inference without folding (bn at running statistics, so no unrolling).
-  const auto convolved = [&](const nn::Conv2d& conv, const torch::Tensor& input) {
-    return is_training() ? convolve_in_training(conv, input) : convolve(conv, input, conv->weight, {});
+  // Training (convolutions may unroll), or inference without folding (always oneDNN).
+  const auto convolved = [&](nn::Conv2d& conv, const torch::Tensor& input) {
+    return is_training() ? convolve_in_training(conv, input) : conv->forward(input);
   };
   torch::Tensor out = bn1(convolved(conv1, x)).relu_();
   out = bn2(convolved(conv2, out));

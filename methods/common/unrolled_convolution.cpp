@@ -14,7 +14,7 @@ torch::Tensor tap_selection(std::int64_t height, std::int64_t width, std::int64_
                             std::int64_t padding) {
   const std::int64_t out_height = output_size(height, kernel, stride, padding);
   const std::int64_t out_width = output_size(width, kernel, stride, padding);
-  torch::Tensor taps = torch::zeros({kernel * kernel, height * width, out_height * out_width});
+  torch::Tensor taps = torch::zeros({kernel * kernel, height * width, out_height * out_width}, torch::kFloat);
   auto at = taps.accessor<float, 3>();
   for (std::int64_t oy = 0; oy < out_height; ++oy) {
     for (std::int64_t ox = 0; ox < out_width; ++ox) {
@@ -36,7 +36,7 @@ torch::Tensor unrolled_conv2d(const torch::Tensor& input, const torch::Tensor& w
   const std::int64_t batch = input.size(0), in_channels = input.size(1), height = input.size(2), width = input.size(3);
   const std::int64_t out_channels = weight.size(0), kernel = weight.size(2);
   TORCH_CHECK(weight.size(1) == in_channels && weight.size(3) == kernel, "unrolled_conv2d: a square kernel over all input channels");
-  const torch::Tensor taps = tap_selection(height, width, kernel, stride, padding);
+  const torch::Tensor taps = tap_selection(height, width, kernel, stride, padding).to(weight.options());
   const std::int64_t positions = height * width, out_positions = taps.size(2);
   // unrolled[(i, p), (o, q)] = sum_t weight[o, i, t] * taps[t, p, q]: input channel i at position
   // p feeds output channel o at position q, rows and columns in the maps' own (NCHW) order.
@@ -50,8 +50,11 @@ torch::Tensor unrolled_conv2d(const torch::Tensor& input, const torch::Tensor& w
                    output_size(width, kernel, stride, padding)});
 }
 
-bool unrolling_pays(std::int64_t input_positions, std::int64_t output_positions, std::int64_t kernel) {
-  return output_positions <= 2 && input_positions <= kernel * kernel;
+bool unrolling_pays(std::int64_t height, std::int64_t width, std::int64_t kernel, std::int64_t stride,
+                    std::int64_t padding) {
+  const std::int64_t out_height = output_size(height, kernel, stride, padding);
+  const std::int64_t out_width = output_size(width, kernel, stride, padding);
+  return out_height >= 1 && out_width >= 1 && out_height * out_width <= 2 && height * width <= kernel * kernel;
 }
 
 }  // namespace fscil

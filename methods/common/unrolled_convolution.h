@@ -10,11 +10,13 @@ namespace fscil {
 torch::Tensor unrolled_conv2d(const torch::Tensor& input, const torch::Tensor& weight, std::int64_t stride,
                               std::int64_t padding);
 
-// Whether a convolution with a `kernel` x `kernel` window that maps an input of `input_positions`
-// to `output_positions` positions is faster unrolled: when the output map has at most two
-// positions (HapTex's last stage, 2 x 1) and the unrolled product does no more multiply-adds
-// than the convolution (input_positions <= kernel * kernel). Measured on a batch of 128 at
-// 256 channels (docs/architecture.md, "The training step").
-bool unrolling_pays(std::int64_t input_positions, std::int64_t output_positions, std::int64_t kernel);
+// Whether a zero-padded convolution with a `kernel` x `kernel` window and equal stride and padding
+// in both axes is faster unrolled on a `height` x `width` map: when its output map has one or two
+// positions (HapTex's last stage, 2 x 1) and the unrolled product does no more multiply-adds than
+// the convolution counting the taps that read padding (height * width <= kernel * kernel). The
+// bound of two positions is measured (docs/architecture.md, "The training step"): 2 x 1 maps
+// gain 3-4x, 4 x 2 maps nothing.
+bool unrolling_pays(std::int64_t height, std::int64_t width, std::int64_t kernel, std::int64_t stride,
+                    std::int64_t padding);
 
 }  // namespace fscil

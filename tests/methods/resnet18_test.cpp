@@ -40,6 +40,25 @@ TEST(ResNet18, FoldedNormsAtInferenceGiveTheUnfoldedEmbedding) {
   EXPECT_TRUE(torch::allclose(folded, plain, 1e-4, 1e-4)) << (folded - plain).abs().max().item<double>();
 }
 
+TEST(ResNet18, AnEmbeddingAtInferenceDependsOnTheSamplesBesideItOnlyByRounding) {
+  // HapTex's shape (the channels-last stem, the 2 x 1 maps). oneDNN picks its kernels by batch
+  // size, so bit equality does not hold; the tolerance is the one prototypes are checked at.
+  torch::manual_seed(6);
+  for (const bool fold : {true, false}) {
+    ResNet18Options options{5, 64};
+    options.fold_norms_at_inference = fold;
+    ResNet18Encoder encoder(options);
+    encoder->eval();
+    torch::NoGradGuard no_grad;
+    const torch::Tensor batch = torch::randn({9, 5, 64, 24});
+    const torch::Tensor together = encoder->forward(batch);
+    for (const std::int64_t i : {0, 4, 8}) {
+      const torch::Tensor alone = encoder->forward(batch.narrow(0, i, 1));
+      EXPECT_TRUE(torch::allclose(alone, together.narrow(0, i, 1), 1e-4, 1e-5)) << fold << " " << i;
+    }
+  }
+}
+
 TEST(ResNet18, TrainingModeIsUntouchedByFolding) {
   EncoderPair pair = encoder_pair();
   const torch::Tensor x = torch::randn({4, 3, 16, 20});

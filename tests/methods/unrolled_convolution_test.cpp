@@ -40,11 +40,14 @@ TEST(UnrolledConvolution, IsConv2dWithItsGradientsOnTinyMaps) {
 }
 
 TEST(UnrolledConvolution, PaysOnlyOnOneOrTwoOutputPositionsWithoutExtraWork) {
-  EXPECT_TRUE(unrolling_pays(2, 2, 3));   // 2 x 1, 3 x 3, stride 1
-  EXPECT_TRUE(unrolling_pays(8, 2, 3));   // 4 x 2 to 2 x 1, stride 2
-  EXPECT_FALSE(unrolling_pays(8, 8, 3));  // 4 x 2, stride 1: oneDNN is faster there
-  EXPECT_FALSE(unrolling_pays(8, 2, 1));  // a 1 x 1 shortcut would multiply 8 times the work
-  EXPECT_FALSE(unrolling_pays(10, 1, 3));
+  EXPECT_TRUE(unrolling_pays(2, 1, 3, 1, 1));   // HapTex's last stage: 2 x 1 to 2 x 1
+  EXPECT_TRUE(unrolling_pays(4, 2, 3, 2, 1));   // its entry: 4 x 2 to 2 x 1, 8 <= 9 taps
+  EXPECT_TRUE(unrolling_pays(3, 1, 3, 2, 1));   // 3 x 1 to 2 x 1
+  EXPECT_FALSE(unrolling_pays(4, 2, 3, 1, 1));  // 4 x 2 to 4 x 2: oneDNN is as fast there
+  EXPECT_FALSE(unrolling_pays(2, 3, 3, 1, 1));  // 2 x 3: three output positions
+  EXPECT_FALSE(unrolling_pays(4, 2, 1, 2, 0));  // a 1 x 1 shortcut would do 8 times the work
+  EXPECT_FALSE(unrolling_pays(5, 2, 3, 2, 1));  // 10 input positions > 9 taps
+  EXPECT_FALSE(unrolling_pays(2, 2, 3, 1, 0));  // no output at all
 }
 
 }  // namespace
