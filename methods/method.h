@@ -81,6 +81,10 @@ class Method {
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
   virtual ReplayFootprint replay_footprint() const { return {}; }
+  // True when learn_session never changes what embed() returns: the runner then embeds each
+  // scored sample once per run rather than once per session (protocols/scored_embeddings.h).
+  // tests/methods/sessions_keep_embedding_test.cpp holds every method that says so to it.
+  virtual bool sessions_keep_embedding() const { return false; }
   // Parameters this method reads only after the base session (a session's fine-tuning, PSPC): a
   // base's identity in the stage cache leaves them out, so a sweep over one reuses the base.
   // tests/methods/session_only_parameters_test.cpp trains a base with each changed and requires

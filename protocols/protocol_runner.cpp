@@ -9,6 +9,7 @@
 #include "datasets/log_mel_extractor.h"
 #include "metrics/context_dispersion.h"
 #include "metrics/resource_usage.h"
+#include "protocols/scored_embeddings.h"
 
 namespace fscil {
 
@@ -70,8 +71,6 @@ SampleRows feature_rows(const PreparedDataset& dataset, const std::vector<std::i
     return repeat_channels(front_end(signals.index_select(0, positions.index_select(0, index))), repeat);
   });
 }
-
-constexpr std::int64_t kTestBatch = 512;
 
 // One id per distinct acquisition context (the tuple of a recording's known context values,
 // without the held-out marker), per segment; empty when the dataset knows no contexts.
@@ -141,6 +140,10 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   describe_protocol(context, dataset, schedule);
 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
+  std::vector<int> first_session;
+  for (std::int64_t label : schedule.labels_of(scored_segments)) first_session.push_back(plan.session_of_class(label));
+  ScoredEmbeddings scored_embeddings(feature_rows(dataset, scored_segments), std::move(first_session),
+                                     method.sessions_keep_embedding());
   std::vector<SessionOutcome> outcomes = checkpoints.finished;
   for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
@@ -165,19 +168,19 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
 
     Stopwatch test_clock;
-    const torch::Tensor seen = (test_labels < outcome.seen_classes).nonzero().flatten();
+    const std::vector<std::int64_t> seen = scored_embeddings.seen_after(session);
     std::vector<std::int64_t> seen_segments;
-    for (std::int64_t position : to_vector<std::int64_t>(seen)) seen_segments.push_back(scored_segments[position]);
-    const SampleRows features = feature_rows(dataset, seen_segments);
+    for (std::int64_t position : seen) seen_segments.push_back(scored_segments[position]);
+    const torch::Tensor seen_embeddings = scored_embeddings.after(method, session);
     std::vector<torch::Tensor> predictions, embeddings;
-    for (std::int64_t first = 0; first < features.count(); first += kTestBatch) {
-      const torch::Tensor embedding = method.embed(features.range(first, std::min(kTestBatch, features.count() - first)));
+    for (std::int64_t first = 0; first < seen_embeddings.size(0); first += ScoredEmbeddings::kBatch) {
+      const torch::Tensor embedding = seen_embeddings.narrow(0, first, std::min(ScoredEmbeddings::kBatch, seen_embeddings.size(0) - first));
       predictions.push_back(method.classify(embedding).argmax(1));
       if (!segment_contexts.empty()) {
         embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
       }
     }
-    const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, seen));
+    const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, torch::tensor(seen, torch::kLong)));
     outcome.accuracy = score_session(labels, to_vector<std::int64_t>(torch::cat(predictions)), plan.base_classes,
                                      plan.first_class_of(session), plan.seen_after(session));
     if (!segment_contexts.empty()) {

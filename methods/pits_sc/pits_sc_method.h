@@ -22,6 +22,7 @@ class PitsScMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  bool sessions_keep_embedding() const override { return true; }  // sessions fine-tune the classifier only
   std::set<std::string> session_only_parameters() const override { return {"epochs_new", "lr_new", "lamda_proto"}; }
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;

@@ -18,6 +18,7 @@ class PrototypeMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
+  bool sessions_keep_embedding() const override { return true; }  // sessions only add prototypes
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;
 

@@ -1,0 +1,57 @@
+#include "protocols/scored_embeddings.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <utility>
+
+namespace fscil {
+
+ScoredEmbeddings::ScoredEmbeddings(SampleRows rows, std::vector<int> first_session, bool kept)
+    : rows_(std::move(rows)),
+      first_session_(std::move(first_session)),
+      kept_(kept),
+      kept_row_of_(first_session_.size(), -1) {
+  if (static_cast<std::int64_t>(first_session_.size()) != rows_.count()) {
+    throw std::invalid_argument("scored embeddings: one first session per scored sample");
+  }
+}
+
+std::vector<std::int64_t> ScoredEmbeddings::first_seen_in(int from, int to) const {
+  std::vector<std::int64_t> positions;
+  for (std::size_t i = 0; i < first_session_.size(); ++i) {
+    if (first_session_[i] >= from && first_session_[i] <= to) positions.push_back(static_cast<std::int64_t>(i));
+  }
+  return positions;
+}
+
+std::vector<std::int64_t> ScoredEmbeddings::seen_after(int session) const { return first_seen_in(0, session); }
+
+torch::Tensor ScoredEmbeddings::embed(Method& method, const std::vector<std::int64_t>& positions) const {
+  const torch::Tensor index = torch::tensor(positions, torch::kLong);
+  std::vector<torch::Tensor> parts;
+  for (std::int64_t first = 0; first < index.size(0); first += kBatch) {
+    parts.push_back(method.embed(rows_.gather(index.narrow(0, first, std::min(kBatch, index.size(0) - first)))));
+  }
+  return torch::cat(parts);
+}
+
+torch::Tensor ScoredEmbeddings::after(Method& method, int session) {
+  const std::vector<std::int64_t> seen = seen_after(session);
+  if (!kept_) return embed(method, seen);
+  // Session by session from the first, so that the batches do not depend on the session a
+  // resumed run starts at: session 0's are those of embedding all it scores at once.
+  for (int next = static_cast<int>(kept_embeddings_.size()); next <= session; ++next) {
+    const std::vector<std::int64_t> fresh = first_seen_in(next, next);
+    for (std::int64_t position : fresh) kept_row_of_[static_cast<std::size_t>(position)] = kept_rows_++;
+    kept_embeddings_.push_back(fresh.empty() ? torch::Tensor() : embed(method, fresh));
+  }
+  std::vector<torch::Tensor> defined;
+  for (const auto& part : kept_embeddings_) {
+    if (part.defined()) defined.push_back(part);
+  }
+  std::vector<std::int64_t> rows;
+  for (std::int64_t position : seen) rows.push_back(kept_row_of_[static_cast<std::size_t>(position)]);
+  return torch::cat(defined).index_select(0, torch::tensor(rows, torch::kLong));
+}
+
+}  // namespace fscil
