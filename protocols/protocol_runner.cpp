@@ -142,9 +142,11 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
   std::vector<int> first_session;
   for (std::int64_t label : schedule.labels_of(scored_segments)) first_session.push_back(plan.session_of_class(label));
-  ScoredEmbeddings scored_embeddings(feature_rows(dataset, scored_segments), std::move(first_session),
-                                     method.sessions_keep_embedding());
+  ScoredEmbeddings scored_embeddings(
+      feature_rows(dataset, scored_segments), std::move(first_session),
+      method.sessions_keep_embedding() ? EmbeddingReuse::once_per_run : EmbeddingReuse::every_session);
   std::vector<SessionOutcome> outcomes = checkpoints.finished;
+  if (!outcomes.empty()) scored_embeddings.keep_up_to(method, static_cast<int>(outcomes.size()) - 1);
   for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
     if (context.progress != nullptr) {
@@ -168,10 +170,10 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
 
     Stopwatch test_clock;
-    const std::vector<std::int64_t> seen = scored_embeddings.seen_after(session);
+    const std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
     std::vector<std::int64_t> seen_segments;
     for (std::int64_t position : seen) seen_segments.push_back(scored_segments[position]);
-    const torch::Tensor seen_embeddings = scored_embeddings.after(method, session);
+    const torch::Tensor seen_embeddings = scored_embeddings.embeddings_after(method, session);
     std::vector<torch::Tensor> predictions, embeddings;
     for (std::int64_t first = 0; first < seen_embeddings.size(0); first += ScoredEmbeddings::kBatch) {
       const torch::Tensor embedding = seen_embeddings.narrow(0, first, std::min(ScoredEmbeddings::kBatch, seen_embeddings.size(0) - first));

@@ -6,10 +6,10 @@
 
 namespace fscil {
 
-ScoredEmbeddings::ScoredEmbeddings(SampleRows rows, std::vector<int> first_session, bool kept)
+ScoredEmbeddings::ScoredEmbeddings(SampleRows rows, std::vector<int> first_session, EmbeddingReuse reuse)
     : rows_(std::move(rows)),
       first_session_(std::move(first_session)),
-      kept_(kept),
+      reuse_(reuse),
       kept_row_of_(first_session_.size(), -1) {
   if (static_cast<std::int64_t>(first_session_.size()) != rows_.count()) {
     throw std::invalid_argument("scored embeddings: one first session per scored sample");
@@ -24,7 +24,7 @@ std::vector<std::int64_t> ScoredEmbeddings::first_seen_in(int from, int to) cons
   return positions;
 }
 
-std::vector<std::int64_t> ScoredEmbeddings::seen_after(int session) const { return first_seen_in(0, session); }
+std::vector<std::int64_t> ScoredEmbeddings::positions_seen_by(int session) const { return first_seen_in(0, session); }
 
 torch::Tensor ScoredEmbeddings::embed(Method& method, const std::vector<std::int64_t>& positions) const {
   const torch::Tensor index = torch::tensor(positions, torch::kLong);
@@ -35,9 +35,8 @@ torch::Tensor ScoredEmbeddings::embed(Method& method, const std::vector<std::int
   return torch::cat(parts);
 }
 
-torch::Tensor ScoredEmbeddings::after(Method& method, int session) {
-  const std::vector<std::int64_t> seen = seen_after(session);
-  if (!kept_) return embed(method, seen);
+void ScoredEmbeddings::keep_up_to(Method& method, int session) {
+  if (reuse_ != EmbeddingReuse::once_per_run) return;
   // Session by session from the first, so that the batches do not depend on the session a
   // resumed run starts at: session 0's are those of embedding all it scores at once.
   for (int next = static_cast<int>(kept_embeddings_.size()); next <= session; ++next) {
@@ -45,6 +44,12 @@ torch::Tensor ScoredEmbeddings::after(Method& method, int session) {
     for (std::int64_t position : fresh) kept_row_of_[static_cast<std::size_t>(position)] = kept_rows_++;
     kept_embeddings_.push_back(fresh.empty() ? torch::Tensor() : embed(method, fresh));
   }
+}
+
+torch::Tensor ScoredEmbeddings::embeddings_after(Method& method, int session) {
+  const std::vector<std::int64_t> seen = positions_seen_by(session);
+  if (reuse_ == EmbeddingReuse::every_session) return embed(method, seen);
+  keep_up_to(method, session);
   std::vector<torch::Tensor> defined;
   for (const auto& part : kept_embeddings_) {
     if (part.defined()) defined.push_back(part);

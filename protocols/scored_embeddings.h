@@ -9,6 +9,10 @@
 
 namespace fscil {
 
+// How often a scored sample is embedded: once per run (Method::sessions_keep_embedding) or
+// after every session that scores it.
+enum class EmbeddingReuse { once_per_run, every_session };
+
 // The embeddings the runner scores a session on: embed() of the scored samples of every class
 // seen so far, in the scored split's order. Most methods leave embed() unchanged after the base
 // session (Method::sessions_keep_embedding); their samples are then embedded once per run, a
@@ -20,13 +24,16 @@ class ScoredEmbeddings {
   static constexpr std::int64_t kBatch = 512;  // samples per embed() call
 
   // `rows`: features of the scored samples; `first_session`: each one's class's first session.
-  ScoredEmbeddings(SampleRows rows, std::vector<int> first_session, bool kept);
+  ScoredEmbeddings(SampleRows rows, std::vector<int> first_session, EmbeddingReuse reuse);
 
   // The positions (in the scored split) of the samples first seen in sessions 0..session, in
   // scored order.
-  std::vector<std::int64_t> seen_after(int session) const;
+  std::vector<std::int64_t> positions_seen_by(int session) const;
   // Their embeddings, N x D in the same order. Sessions are scored in order from any first one.
-  torch::Tensor after(Method& method, int session);
+  torch::Tensor embeddings_after(Method& method, int session);
+  // With once_per_run, embeds now what embeddings_after(session) would keep (a run continuing
+  // after `session` catches up outside the next session's test clock); nothing otherwise.
+  void keep_up_to(Method& method, int session);
 
  private:
   // embed() of the samples at `positions`, in batches in that order.
@@ -36,7 +43,7 @@ class ScoredEmbeddings {
 
   SampleRows rows_;
   std::vector<int> first_session_;
-  bool kept_;
+  EmbeddingReuse reuse_;
   std::vector<torch::Tensor> kept_embeddings_;  // per session from the first, of its new samples
   std::vector<std::int64_t> kept_row_of_;       // a position's row among them, or -1
   std::int64_t kept_rows_ = 0;

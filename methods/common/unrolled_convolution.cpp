@@ -4,8 +4,10 @@ namespace fscil {
 
 namespace {
 
+// 0 when the window does not fit the padded map (integer division alone would round that up to 1).
 std::int64_t output_size(std::int64_t size, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
-  return (size + 2 * padding - kernel) / stride + 1;
+  const std::int64_t room = size + 2 * padding - kernel;
+  return room < 0 ? 0 : room / stride + 1;
 }
 
 // taps[t][p][q] = 1 where the window of output position q reads input position p with tap t:

@@ -48,6 +48,7 @@ TEST(UnrolledConvolution, PaysOnlyOnOneOrTwoOutputPositionsWithoutExtraWork) {
   EXPECT_FALSE(unrolling_pays(4, 2, 1, 2, 0));  // a 1 x 1 shortcut would do 8 times the work
   EXPECT_FALSE(unrolling_pays(5, 2, 3, 2, 1));  // 10 input positions > 9 taps
   EXPECT_FALSE(unrolling_pays(2, 2, 3, 1, 0));  // no output at all
+  EXPECT_FALSE(unrolling_pays(2, 2, 3, 2, 0));  // none either, though integer division rounds to one
 }
 
 }  // namespace

@@ -36,41 +36,62 @@ std::vector<float> values(const torch::Tensor& embeddings) {
 
 TEST(ScoredEmbeddings, EmbedsEachSampleOnceForAMethodWhoseSessionsKeepItsEmbedding) {
   CountingMethod method;
-  ScoredEmbeddings scored(six_samples(), kFirstSession, true);
-  EXPECT_EQ(scored.seen_after(1), (std::vector<std::int64_t>{0, 1, 2, 4, 5}));
-  EXPECT_EQ(values(scored.after(method, 0)), (std::vector<float>{0, 2, 5}));
+  ScoredEmbeddings scored(six_samples(), kFirstSession, EmbeddingReuse::once_per_run);
+  EXPECT_EQ(scored.positions_seen_by(1), (std::vector<std::int64_t>{0, 1, 2, 4, 5}));
+  EXPECT_EQ(values(scored.embeddings_after(method, 0)), (std::vector<float>{0, 2, 5}));
   method.sessions = 1;  // would scale a fresh embedding: kept samples show the old value
-  EXPECT_EQ(values(scored.after(method, 1)), (std::vector<float>{0, 2, 2, 8, 5}));
-  EXPECT_EQ(values(scored.after(method, 2)), (std::vector<float>{0, 2, 2, 6, 8, 5}));
+  EXPECT_EQ(values(scored.embeddings_after(method, 1)), (std::vector<float>{0, 2, 2, 8, 5}));
+  EXPECT_EQ(values(scored.embeddings_after(method, 2)), (std::vector<float>{0, 2, 2, 6, 8, 5}));
   EXPECT_EQ(method.batches, (std::vector<std::int64_t>{3, 2, 1}));
 }
 
 TEST(ScoredEmbeddings, AResumedRunEmbedsInTheBatchesOfARunFromTheStart) {
   CountingMethod method;
-  ScoredEmbeddings scored(six_samples(), kFirstSession, true);
-  EXPECT_EQ(values(scored.after(method, 2)), (std::vector<float>{0, 1, 2, 3, 4, 5}));
+  ScoredEmbeddings scored(six_samples(), kFirstSession, EmbeddingReuse::once_per_run);
+  EXPECT_EQ(values(scored.embeddings_after(method, 2)), (std::vector<float>{0, 1, 2, 3, 4, 5}));
   EXPECT_EQ(method.batches, (std::vector<std::int64_t>{3, 2, 1}));
+}
+
+TEST(ScoredEmbeddings, ARunContinuingAfterASessionCatchesUpInTheSameBatches) {
+  CountingMethod method;
+  ScoredEmbeddings scored(six_samples(), kFirstSession, EmbeddingReuse::once_per_run);
+  scored.keep_up_to(method, 1);
+  EXPECT_EQ(method.batches, (std::vector<std::int64_t>{3, 2}));
+  method.sessions = 2;
+  EXPECT_EQ(values(scored.embeddings_after(method, 2)), (std::vector<float>{0, 1, 2, 9, 4, 5}));
+  EXPECT_EQ(method.batches, (std::vector<std::int64_t>{3, 2, 1}));
+  ScoredEmbeddings recomputed(six_samples(), kFirstSession, EmbeddingReuse::every_session);
+  recomputed.keep_up_to(method, 1);
+  EXPECT_EQ(method.batches.size(), 3u);  // nothing to keep
+}
+
+TEST(ScoredEmbeddings, ASessionWithoutNewScoredSamplesAddsNone) {
+  CountingMethod method;
+  ScoredEmbeddings scored(six_samples(), {0, 2, 0, 2, 0, 0}, EmbeddingReuse::once_per_run);
+  EXPECT_EQ(values(scored.embeddings_after(method, 1)), (std::vector<float>{0, 2, 4, 5}));
+  EXPECT_EQ(values(scored.embeddings_after(method, 2)), (std::vector<float>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(method.batches, (std::vector<std::int64_t>{4, 2}));
 }
 
 TEST(ScoredEmbeddings, EmbedsEverySeenSampleEachSessionOtherwise) {
   CountingMethod method;
-  ScoredEmbeddings scored(six_samples(), kFirstSession, false);
-  EXPECT_EQ(values(scored.after(method, 0)), (std::vector<float>{0, 2, 5}));
+  ScoredEmbeddings scored(six_samples(), kFirstSession, EmbeddingReuse::every_session);
+  EXPECT_EQ(values(scored.embeddings_after(method, 0)), (std::vector<float>{0, 2, 5}));
   method.sessions = 1;
-  EXPECT_EQ(values(scored.after(method, 1)), (std::vector<float>{0, 2, 4, 8, 10}));
+  EXPECT_EQ(values(scored.embeddings_after(method, 1)), (std::vector<float>{0, 2, 4, 8, 10}));
   EXPECT_EQ(method.batches, (std::vector<std::int64_t>{3, 5}));
 }
 
 TEST(ScoredEmbeddings, EmbedsInBatchesOfAtMostKBatch) {
   CountingMethod method;
   const std::int64_t count = ScoredEmbeddings::kBatch + 3;
-  ScoredEmbeddings scored(SampleRows(torch::ones({count, 1})), std::vector<int>(count, 0), true);
-  EXPECT_EQ(scored.after(method, 0).size(0), count);
+  ScoredEmbeddings scored(SampleRows(torch::ones({count, 1})), std::vector<int>(count, 0), EmbeddingReuse::once_per_run);
+  EXPECT_EQ(scored.embeddings_after(method, 0).size(0), count);
   EXPECT_EQ(method.batches, (std::vector<std::int64_t>{ScoredEmbeddings::kBatch, 3}));
 }
 
 TEST(ScoredEmbeddings, RejectsAFirstSessionListOfAnotherLength) {
-  EXPECT_THROW(ScoredEmbeddings(six_samples(), {0, 1}, true), std::invalid_argument);
+  EXPECT_THROW(ScoredEmbeddings(six_samples(), {0, 1}, EmbeddingReuse::once_per_run), std::invalid_argument);
 }
 
 }  // namespace
