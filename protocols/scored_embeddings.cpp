@@ -1,6 +1,5 @@
 #include "protocols/scored_embeddings.h"
 
-#include <algorithm>
 #include <stdexcept>
 #include <utility>
 
@@ -28,11 +27,8 @@ std::vector<std::int64_t> ScoredEmbeddings::positions_seen_by(int session) const
 
 torch::Tensor ScoredEmbeddings::embed(Method& method, const std::vector<std::int64_t>& positions) const {
   const torch::Tensor index = torch::tensor(positions, torch::kLong);
-  std::vector<torch::Tensor> parts;
-  for (std::int64_t first = 0; first < index.size(0); first += kBatch) {
-    parts.push_back(method.embed(rows_.gather(index.narrow(0, first, std::min(kBatch, index.size(0) - first)))));
-  }
-  return torch::cat(parts);
+  const SampleRows chosen(index.size(0), [this, index](const torch::Tensor& i) { return rows_.gather(index.index_select(0, i)); });
+  return method.embed_rows(chosen, kBatch);
 }
 
 void ScoredEmbeddings::keep_up_to(Method& method, int session) {
