@@ -47,9 +47,9 @@ struct RunContext {
   // The dataset's log-Mel front end: N x C x L raw signals -> N x C x n_mels x frames, for
   // methods that transform raw signals during training (PITS-SC mixes them).
   std::function<torch::Tensor(const torch::Tensor&)> front_end;
-  // Encoders recompute each stage's activations in backward instead of keeping them
-  // (`--set recompute=stages`): less memory, the same numbers.
-  bool recompute_stages = false;
+  // Encoders recompute their stem's and each stage's activations in backward instead of keeping
+  // them (`--set recompute=stages`): less memory, the same numbers.
+  bool recompute_activations = false;
   // --max-memory: training passes that would pass it recompute as above (null: no limit).
   std::shared_ptr<MemoryBudget> memory_budget;
   const SessionData* validation = nullptr;

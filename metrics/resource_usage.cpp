@@ -30,4 +30,11 @@ void keep_freed_memory_for_reuse() {
   mallopt(M_TRIM_THRESHOLD, -1);  // -1: never give the heap's top back
 }
 
+void return_large_blocks_to_the_kernel() {
+  constexpr int kLargeBlock = 1 << 20;
+  mallopt(M_MMAP_THRESHOLD, kLargeBlock);  // a fixed threshold: glibc no longer raises it
+  mallopt(M_MMAP_MAX, 1 << 16);            // glibc's default count of mapped blocks
+  mallopt(M_TRIM_THRESHOLD, kLargeBlock);
+}
+
 }  // namespace fscil

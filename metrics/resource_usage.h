@@ -16,6 +16,12 @@ void reset_peak_resident();
 // paid for fresh zeroed pages: 30% of LMT108-shaped ResNet-18 training was page faults. Call once
 // at the start of main().
 void keep_freed_memory_for_reuse();
+// Undoes keep_freed_memory_for_reuse: malloc maps each block of 1 MiB and more on its own and
+// unmaps it on free, and gives back a free heap top of 1 MiB and more, so the resident set follows
+// what is in use (heap blocks kept for reuse fragment: a freed block too small for the next
+// request stays resident beside it). For a run under a memory limit, which asks for memory before
+// speed.
+void return_large_blocks_to_the_kernel();
 
 class Stopwatch {
  public:

@@ -80,7 +80,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-cache", run.no_cache, "neither read nor write either cache");
   app.add_option("--max-memory", run.max_memory,
                  "SIZE (4G, 512M, bytes): a training pass that would take the run past it recomputes its ResNet "
-                 "stages in backward (as --set recompute=stages, the same numbers); an estimate, not a cap")
+                 "stem and stages in backward (as --set recompute=stages, the same numbers), and freed large "
+                 "blocks go back to the kernel; an estimate, not a cap")
       ->check(CLI::Validator([](std::string& text) { return text.empty() ? std::string("expected a size such as 4G") : std::string(); },
                              "SIZE"));
   app.add_flag("--no-stage-cache", run.no_stage_cache, "train every base session, even one the cache holds for exactly these inputs");

@@ -145,11 +145,12 @@ void run_benchmark(const RunOptions& options) {
   ParameterSet protocol_params = params;
   const SplitMode split_mode = parse_split_mode(protocol_params.text("split_mode", "recording"));
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
-  const bool recompute_stages = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
+  const bool recompute_activations = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
   const std::int64_t memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
   // One budget for the command: a base handed on between runs keeps its encoder, and with it this.
   const auto memory_budget = memory_limit > 0 ? std::make_shared<MemoryBudget>(memory_limit) : nullptr;
+  if (memory_limit > 0) return_large_blocks_to_the_kernel();
 
   DatasetRequest request;
   request.data_root = options.data_root;
@@ -219,7 +220,7 @@ void run_benchmark(const RunOptions& options) {
   // dataset key covers segments only) and the run-wide recompute (same numbers, another peak).
   std::map<std::string, std::string> run_values = dataset_params.used();
   run_values["front_end"] = dataset.description.front_end.describe();
-  run_values["recompute"] = recompute_stages ? "stages" : "none";
+  run_values["recompute"] = recompute_activations ? "stages" : "none";
   if (memory_limit > 0) run_values["max_memory"] = std::to_string(memory_limit);
   std::vector<RunRecord> records;
   // Per (shared base key, seed): the last method that trained or inherited that base.
@@ -257,7 +258,7 @@ void run_benchmark(const RunOptions& options) {
       }
       torch::manual_seed(seeds[s]);
       RunContext context;
-      context.recompute_stages = recompute_stages;
+      context.recompute_activations = recompute_activations;
       context.memory_budget = memory_budget;
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);

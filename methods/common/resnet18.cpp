@@ -14,6 +14,7 @@ namespace nn = torch::nn;
 namespace {
 
 constexpr int kStages = 4;
+constexpr int kSegments = 1 + kStages;  // the stem with its pool, then the stages
 nn::Conv2d conv(std::int64_t in, std::int64_t out, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
   return nn::Conv2d(nn::Conv2dOptions(in, out, kernel).stride(stride).padding(padding).bias(false));
 }
@@ -44,6 +45,7 @@ torch::Tensor convolve_in_training(nn::Conv2d& conv, const torch::Tensor& x) {
 // pooling are faster there: docs/architecture.md, "The training step"); the stages get contiguous
 // maps back.
 torch::Tensor channels_last(const torch::Tensor& map) { return map.contiguous(at::MemoryFormat::ChannelsLast); }
+torch::Tensor pool_stem_map(const torch::Tensor& map) { return torch::max_pool2d(map, 3, 2, 1).contiguous(); }
 
 // conv then norm at inference, as one convolution: the norm's scale folds into the weights and its
 // shift becomes the bias.
@@ -54,39 +56,40 @@ torch::Tensor folded_conv_norm(const nn::Conv2d& conv, const nn::BatchNorm2d& no
                        *c10::get<torch::ExpandingArray<2>>(options.padding()), *options.dilation(), options.groups());
 }
 
-// A ResNet stage whose activations are not kept: forward runs it without a graph (autograd
-// functions do) and saves only its input; backward runs it again with a graph, under a guard
-// that leaves the running statistics as the first forward set them, and differentiates that.
-// Inputs: the stage's input, the encoder, the stage index, the stage's trained parameters (so
+// A segment of the encoder (the stem with its pool, or a ResNet stage) whose activations are not
+// kept: forward runs it without a graph (autograd functions do) and saves only its input; backward
+// runs it again with a graph, under a guard that leaves the running statistics as the first
+// forward set them, and differentiates that.
+// Inputs: the segment's input, the encoder, the segment index, the segment's trained parameters (so
 // autograd hands their gradients back). The encoder must outlive the graph, as a module does
 // whose forward built it; the parameters that train, and train mode, must not change between
 // forward and backward (checked).
-class RecomputedStage : public torch::autograd::Function<RecomputedStage> {
+class RecomputedSegment : public torch::autograd::Function<RecomputedSegment> {
  public:
   static torch::Tensor forward(torch::autograd::AutogradContext* ctx, const torch::Tensor& input,
-                               ResNet18EncoderImpl* encoder, std::int64_t stage, at::TensorList parameters) {
+                               ResNet18EncoderImpl* encoder, std::int64_t segment, at::TensorList parameters) {
     ctx->save_for_backward({input});
     ctx->saved_data["encoder"] = reinterpret_cast<std::int64_t>(encoder);
-    ctx->saved_data["stage"] = stage;
+    ctx->saved_data["segment"] = segment;
     ctx->saved_data["parameters"] = static_cast<std::int64_t>(parameters.size());
-    return encoder->run_stage(static_cast<int>(stage), input);
+    return encoder->run_segment(static_cast<int>(segment), input);
   }
 
   static torch::autograd::variable_list backward(torch::autograd::AutogradContext* ctx,
                                                  torch::autograd::variable_list output_gradients) {
-    TORCH_CHECK(!torch::GradMode::is_enabled(), "recomputed ResNet stages do not support a second derivative");
+    TORCH_CHECK(!torch::GradMode::is_enabled(), "recomputed ResNet segments do not support a second derivative");
     auto* encoder = reinterpret_cast<ResNet18EncoderImpl*>(ctx->saved_data["encoder"].toInt());
-    const int stage = static_cast<int>(ctx->saved_data["stage"].toInt());
+    const int segment = static_cast<int>(ctx->saved_data["segment"].toInt());
     const torch::Tensor saved = ctx->get_saved_variables()[0];
     const torch::Tensor input = saved.detach().requires_grad_(saved.requires_grad());
-    std::vector<torch::Tensor> wrt = encoder->stage_parameters(stage);
+    std::vector<torch::Tensor> wrt = encoder->segment_parameters(segment);
     TORCH_CHECK(encoder->is_training() && static_cast<std::int64_t>(wrt.size()) == ctx->saved_data["parameters"].toInt(),
-                "a recomputed ResNet stage changed between forward and backward (train mode or trained parameters)");
+                "a recomputed ResNet segment changed between forward and backward (train mode or trained parameters)");
     torch::Tensor output;
     {
       torch::AutoGradMode with_graph(true);
       RunningStatisticsGuard first_forward_statistics(*encoder);
-      output = encoder->run_stage(stage, input);
+      output = encoder->run_segment(segment, input);
     }
     if (input.requires_grad()) wrt.insert(wrt.begin(), input);
     std::vector<torch::Tensor> gradients =
@@ -95,7 +98,7 @@ class RecomputedStage : public torch::autograd::Function<RecomputedStage> {
     torch::autograd::variable_list result;
     result.push_back(input.requires_grad() ? gradients.front() : torch::Tensor());
     result.push_back(torch::Tensor());  // the encoder
-    result.push_back(torch::Tensor());  // the stage index
+    result.push_back(torch::Tensor());  // the segment index
     result.insert(result.end(), gradients.begin() + (input.requires_grad() ? 1 : 0), gradients.end());
     return result;
   }
@@ -158,7 +161,7 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
       widths_(options.widths),
       embedding_size_(options.widths[3]),
       fold_norms_at_inference_(options.fold_norms_at_inference),
-      recompute_stages_(options.recompute_stages),
+      recompute_activations_(options.recompute_activations),
       memory_budget_(options.memory_budget) {
   std::int64_t in_planes = options.widths[0];
   for (int stage = 0; stage < kStages; ++stage) {
@@ -178,52 +181,62 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
 }
 
 torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNormHook& after_input_norm) {
-  torch::Tensor out;
   if (!is_training() && fold_norms_at_inference_) {
     // bn0 at inference: a scale and shift per Mel bin, broadcast over the contiguous input.
     const auto [scale, shift] = inference_affine(input_norm);
     torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
     if (after_input_norm) normalised = after_input_norm(normalised);
-    out = folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_();
-  } else {
-    // bn0 normalises each Mel bin, so the bins become the channel axis for it.
-    out = input_norm(x.transpose(1, 2)).transpose(1, 2);
-    if (after_input_norm) out = after_input_norm(out);
-    out = stem_norm(stem(channels_last(out))).relu_();
+    const torch::Tensor out = pool_stem_map(folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_());
+    return torch::adaptive_avg_pool2d(stages->forward(out), {1, 1}).flatten(1);
   }
-  out = torch::max_pool2d(out, 3, 2, 1).contiguous();
+  // bn0 normalises each Mel bin, so the bins become the channel axis for it.
+  torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
+  if (after_input_norm) out = after_input_norm(out);
   const bool recompute = is_training() && torch::GradMode::is_enabled() &&
-                         (recompute_stages_ || (memory_budget_ && memory_budget_->would_exceed(pass_bytes_after_stem(out))));
-  if (recompute) {
-    for (int stage = 0; stage < kStages; ++stage) {
-      const std::vector<torch::Tensor> parameters = stage_parameters(stage);
-      out = parameters.empty() && !out.requires_grad()
-                ? run_stage(stage, out)
-                : RecomputedStage::apply(out, this, static_cast<std::int64_t>(stage), at::TensorList(parameters));
-    }
-  } else {
-    out = stages->forward(out);
+                         (recompute_activations_ || (memory_budget_ && memory_budget_->would_exceed(training_pass_bytes(out))));
+  for (int segment = 0; segment < kSegments; ++segment) {
+    const std::vector<torch::Tensor> parameters = recompute ? segment_parameters(segment) : std::vector<torch::Tensor>{};
+    out = !recompute || (parameters.empty() && !out.requires_grad())
+              ? run_segment(segment, out)
+              : RecomputedSegment::apply(out, this, static_cast<std::int64_t>(segment), at::TensorList(parameters));
   }
   return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);
 }
 
-torch::Tensor ResNet18EncoderImpl::run_stage(int stage, const torch::Tensor& x) {
-  const torch::Tensor out = stages->ptr(2 * stage)->as<BasicBlock>()->forward(x);
-  return stages->ptr(2 * stage + 1)->as<BasicBlock>()->forward(out);
+torch::Tensor ResNet18EncoderImpl::run_segment(int segment, const torch::Tensor& x) {
+  if (segment == 0) return pool_stem_map(stem_norm(stem(channels_last(x))).relu_());
+  const torch::Tensor out = stages->ptr(2 * segment - 2)->as<BasicBlock>()->forward(x);
+  return stages->ptr(2 * segment - 1)->as<BasicBlock>()->forward(out);
 }
 
-std::vector<torch::Tensor> ResNet18EncoderImpl::stage_parameters(int stage) const {
-  std::vector<torch::Tensor> trained;
-  for (int block = 2 * stage; block < 2 * stage + 2; ++block) {
-    for (const auto& parameter : stages->ptr(block)->parameters()) {
-      if (parameter.requires_grad()) trained.push_back(parameter);
+std::vector<torch::Tensor> ResNet18EncoderImpl::segment_parameters(int segment) const {
+  std::vector<torch::Tensor> modules_parameters;
+  if (segment == 0) {
+    modules_parameters = stem->parameters();
+    for (const auto& parameter : stem_norm->parameters()) modules_parameters.push_back(parameter);
+  } else {
+    for (int block = 2 * segment - 2; block < 2 * segment; ++block) {
+      for (const auto& parameter : stages->ptr(block)->parameters()) modules_parameters.push_back(parameter);
     }
+  }
+  std::vector<torch::Tensor> trained;
+  for (const auto& parameter : modules_parameters) {
+    if (parameter.requires_grad()) trained.push_back(parameter);
   }
   return trained;
 }
 
-std::int64_t ResNet18EncoderImpl::pass_bytes_after_stem(const torch::Tensor& pooled) const {
-  std::int64_t height = pooled.size(2), width = pooled.size(3), in_planes = pooled.size(1), elements = 0;
+std::int64_t ResNet18EncoderImpl::training_pass_bytes(const torch::Tensor& normalised) const {
+  const std::int64_t batch = normalised.size(0);
+  // The stem: 7x7, stride 2, padding 3; then the 3x3 max pool, stride 2, padding 1.
+  std::int64_t height = (normalised.size(2) - 1) / 2 + 1, width = (normalised.size(3) - 1) / 2 + 1;
+  const std::int64_t stem_map = widths_[0] * height * width;
+  height = (height - 1) / 2 + 1, width = (width - 1) / 2 + 1;
+  std::int64_t in_planes = widths_[0];
+  // The stem keeps its channels-last copy of the input (its weight gradient reads it), its
+  // convolution's output (the norm reads it) and its norm's output after ReLU (ReLU and the pool
+  // read it), the pool's indices (int64: two floats each) and its contiguous output.
+  std::int64_t elements = normalised[0].numel() + 2 * stem_map + 3 * in_planes * height * width;
   for (int stage = 0; stage < kStages; ++stage) {
     if (stage > 0) height = (height + 1) / 2, width = (width + 1) / 2;  // 3x3, stride 2, padding 1
     // Each block keeps its two convolutions' outputs (its norms read them) and its two norms'
@@ -234,17 +247,16 @@ std::int64_t ResNet18EncoderImpl::pass_bytes_after_stem(const torch::Tensor& poo
     elements += (8 + (shortcut ? 1 : 0)) * widths_[stage] * height * width;
     in_planes = widths_[stage];
   }
-  // Backward's gradients of the stem map (twice the pooled height and width) at its norm's output
-  // and at its convolution's output.
-  elements += 2 * 4 * pooled.size(1) * pooled.size(2) * pooled.size(3);
-  return elements * pooled.size(0) * static_cast<std::int64_t>(pooled.element_size());
+  // Backward's gradients of the stem map at its norm's output and at its convolution's output.
+  elements += 2 * stem_map;
+  return elements * batch * static_cast<std::int64_t>(normalised.element_size());
 }
 
 void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
   count_batch_norm(cost, name + ".bn0", *input_norm, input);
   MapShape out = count_conv2d(cost, name + ".conv1", *stem, input);
   count_batch_norm(cost, name + ".bn1", *stem_norm, out);
-  const MapShape pooled = window_output(out, out.channels, 3, 3, 2, 1);  // the max_pool2d of forward()
+  const MapShape pooled = window_output(out, out.channels, 3, 3, 2, 1);  // the max_pool2d of pool_stem_map()
   cost.add({name + ".maxpool", "pool", max_pool_macs(pooled, 3)});
   out = pooled;
   for (std::size_t block = 0; block < stages->size(); ++block) {
@@ -255,7 +267,7 @@ void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, c
 
 ResNet18Options encoder_options(const RunContext& context) {
   ResNet18Options options{context.input.channels, context.input.mel_bins};
-  options.recompute_stages = context.recompute_stages;
+  options.recompute_activations = context.recompute_activations;
   options.memory_budget = context.memory_budget;
   return options;
 }

@@ -19,12 +19,12 @@ struct ResNet18Options {
   // In eval mode, run each convolution and its batch norm as one convolution with folded weights
   // (same function up to float rounding, one pass over the activations instead of two).
   bool fold_norms_at_inference = true;
-  // In training, keep only each of the four stages' input and run the stage again during
-  // backward (activation recomputation): the same gradients and running statistics to the bit,
-  // for about one more forward pass of time and far less memory.
-  bool recompute_stages = false;
-  // With a budget (--max-memory), a training pass whose stages would take the process past it
-  // recomputes them as above; the budget counts those passes.
+  // In training, keep only the input of the stem (with its pool) and of each of the four stages,
+  // and run each again during backward (activation recomputation): the same gradients and
+  // running statistics to the bit, for about one more forward pass of time and far less memory.
+  bool recompute_activations = false;
+  // With a budget (--max-memory), a training pass whose activations would take the process past
+  // it recomputes them as above; the budget counts those passes.
   std::shared_ptr<MemoryBudget> memory_budget{};
 };
 
@@ -58,14 +58,17 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   std::int64_t embedding_size() const { return embedding_size_; }
   // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
   void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;
-  // Stage `stage` (0-3: its two blocks) on its input.
-  torch::Tensor run_stage(int stage, const torch::Tensor& x);
-  std::vector<torch::Tensor> stage_parameters(int stage) const;
-  // Bytes a training pass adds, from its pooled stem map `pooled` (N x C x H x W) on, unless it
-  // recomputes: what the four stages keep for backward, and the two gradients of the stem's map
-  // (before pooling) that backward then holds. Estimated from the shapes; the stem's own maps
-  // already exist when this is asked.
-  std::int64_t pass_bytes_after_stem(const torch::Tensor& pooled) const;
+  // Segment `segment` on its input, unfolded (training, or inference without folded norms): 0 is
+  // the stem with its norm, ReLU and max pool, 1-4 the stages (two blocks each). Recomputation
+  // works segment by segment.
+  torch::Tensor run_segment(int segment, const torch::Tensor& x);
+  // The segment's parameters that train.
+  std::vector<torch::Tensor> segment_parameters(int segment) const;
+  // Bytes a training pass adds from the stem's input `normalised` (bn0's output after the input
+  // norm hook, N x C x n_mels x frames) on, unless it recomputes: what the stem and the four
+  // stages keep for backward, and the two gradients of the stem's map that backward then holds.
+  // Estimated from the shapes.
+  std::int64_t training_pass_bytes(const torch::Tensor& normalised) const;
 
  private:
   torch::nn::BatchNorm2d input_norm{nullptr};
@@ -75,7 +78,7 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   std::array<std::int64_t, 4> widths_;
   std::int64_t embedding_size_;
   bool fold_norms_at_inference_;
-  bool recompute_stages_;
+  bool recompute_activations_;
   std::shared_ptr<MemoryBudget> memory_budget_;
 };
 TORCH_MODULE(ResNet18Encoder);

@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <malloc.h>
 
+#include <set>
+#include <vector>
+
 namespace fscil {
 namespace {
 
@@ -116,36 +119,60 @@ TEST(ResNet18, TheInputNormHookSeesBn0sStandardisedMapInBothModes) {
 namespace fscil {
 namespace {
 
-// Two encoders with the same initial weights, the second recomputing its stages in backward
-// (always, or as its memory budget decides).
+// Two encoders with the same initial weights, the second recomputing its stem and stages in
+// backward (always, or as its memory budget decides).
 std::pair<ResNet18Encoder, ResNet18Encoder> recompute_pair(std::shared_ptr<MemoryBudget> budget = nullptr) {
   ResNet18Options options{3, 16};
   torch::manual_seed(7);
   ResNet18Encoder kept(options);
-  options.recompute_stages = budget == nullptr;
+  options.recompute_activations = budget == nullptr;
   options.memory_budget = budget;
   torch::manual_seed(7);
   ResNet18Encoder recomputed(options);
   return {kept, recomputed};
 }
 
-bool graph_has(const std::shared_ptr<torch::autograd::Node>& node, const std::string& name, int depth = 0) {
-  if (!node || depth > 200) return false;
-  if (node->name().find(name) != std::string::npos) return true;
-  for (const auto& edge : node->next_edges()) {
-    if (graph_has(edge.function, name, depth + 1)) return true;
+// Nodes of the graph behind `root` whose name contains `name`, each counted once.
+int count_nodes(const std::shared_ptr<torch::autograd::Node>& root, const std::string& name) {
+  std::set<const torch::autograd::Node*> seen;
+  std::vector<const torch::autograd::Node*> pending{root.get()};
+  int found = 0;
+  while (!pending.empty()) {
+    const torch::autograd::Node* node = pending.back();
+    pending.pop_back();
+    if (node == nullptr || !seen.insert(node).second) continue;
+    if (node->name().find(name) != std::string::npos) ++found;
+    for (const auto& edge : node->next_edges()) pending.push_back(edge.function.get());
+  }
+  return found;
+}
+
+bool graph_has(const std::shared_ptr<torch::autograd::Node>& node, const std::string& name) {
+  return count_nodes(node, name) > 0;
+}
+
+// Three SGD steps on the same batches; every parameter, gradient and running statistic compared.
+// What does not train in expect_identical_training: bn0 is the stem segment's input side, the stem
+// convolution and its norm ("conv1", "bn1") its parameters.
+enum class Frozen { nothing, input_norm, stem, input_norm_and_stem };
+
+bool is_frozen(const std::string& name, Frozen frozen) {
+  const bool input_norm = name.rfind("bn0.", 0) == 0;
+  const bool stem = name.rfind("conv1.", 0) == 0 || name.rfind("bn1.", 0) == 0;
+  switch (frozen) {
+    case Frozen::nothing: return false;
+    case Frozen::input_norm: return input_norm;
+    case Frozen::stem: return stem;
+    case Frozen::input_norm_and_stem: return input_norm || stem;
   }
   return false;
 }
 
-// Three SGD steps on the same batches; every parameter, gradient and running statistic compared.
-void expect_identical_training(ResNet18Encoder& kept, ResNet18Encoder& recomputed, bool stem_frozen) {
+void expect_identical_training(ResNet18Encoder& kept, ResNet18Encoder& recomputed, Frozen frozen) {
   for (auto* encoder : {&kept, &recomputed}) {
     (*encoder)->train();
-    if (stem_frozen) {
-      for (auto& item : (*encoder)->named_parameters()) {
-        if (item.key().rfind("stages.", 0) != 0) item.value().requires_grad_(false);
-      }
+    for (auto& item : (*encoder)->named_parameters()) {
+      if (is_frozen(item.key(), frozen)) item.value().requires_grad_(false);
     }
   }
   torch::optim::SGD kept_sgd(kept->parameters(), torch::optim::SGDOptions(0.1).momentum(0.9));
@@ -157,8 +184,11 @@ void expect_identical_training(ResNet18Encoder& kept, ResNet18Encoder& recompute
     recomputed_sgd.zero_grad();
     const torch::Tensor kept_out = kept->forward(batch), recomputed_out = recomputed->forward(batch);
     ASSERT_TRUE(torch::equal(kept_out, recomputed_out)) << "step " << step;
-    EXPECT_TRUE(graph_has(recomputed_out.grad_fn(), "RecomputedStage"));
-    EXPECT_FALSE(graph_has(kept_out.grad_fn(), "RecomputedStage"));
+    // The stem (with its pool) and the four stages; a stem whose parameters and input both need
+    // no gradient has no graph to recompute.
+    EXPECT_EQ(count_nodes(recomputed_out.grad_fn(), "RecomputedSegment"),
+              frozen == Frozen::input_norm_and_stem ? 4 : 5);
+    EXPECT_FALSE(graph_has(kept_out.grad_fn(), "RecomputedSegment"));
     ((kept_out - target).pow(2).sum()).backward();
     ((recomputed_out - target).pow(2).sum()).backward();
     const auto recomputed_parameters = recomputed->named_parameters();
@@ -181,27 +211,36 @@ void expect_identical_training(ResNet18Encoder& kept, ResNet18Encoder& recompute
   }
 }
 
-TEST(ResNet18, RecomputedStagesTrainToTheBitLikeKeptActivations) {
+TEST(ResNet18, RecomputedSegmentsTrainToTheBitLikeKeptActivations) {
   auto [kept, recomputed] = recompute_pair();
-  expect_identical_training(kept, recomputed, /*stem_frozen=*/false);
+  expect_identical_training(kept, recomputed, Frozen::nothing);
 }
 
-TEST(ResNet18, RecomputedStagesWorkWhenOnlyTheStagesTrain) {
+TEST(ResNet18, RecomputedSegmentsWorkWhenOnlyTheStagesTrain) {
   auto [kept, recomputed] = recompute_pair();
-  expect_identical_training(kept, recomputed, /*stem_frozen=*/true);
+  expect_identical_training(kept, recomputed, Frozen::input_norm_and_stem);
+}
+
+// The stem segment with trained parameters but an input that needs no gradient, and the reverse.
+TEST(ResNet18, RecomputedStemWorksWithEitherItsInputNormOrItsParametersFrozen) {
+  for (const Frozen frozen : {Frozen::input_norm, Frozen::stem}) {
+    SCOPED_TRACE(frozen == Frozen::input_norm ? "bn0 frozen" : "stem frozen");
+    auto [kept, recomputed] = recompute_pair();
+    expect_identical_training(kept, recomputed, frozen);
+  }
 }
 
 TEST(ResNet18, RecomputationIsOnlyForTrainingWithGradients) {
   auto [kept, recomputed] = recompute_pair();
   recomputed->train();
   torch::NoGradGuard no_grad;
-  EXPECT_FALSE(graph_has(recomputed->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedStage"));
+  EXPECT_FALSE(graph_has(recomputed->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedSegment"));
 }
 
 TEST(ResNet18, APassThatWouldExceedTheMemoryBudgetRecomputesToTheBit) {
   const auto budget = std::make_shared<MemoryBudget>(1);
   auto [kept, recomputed] = recompute_pair(budget);
-  expect_identical_training(kept, recomputed, /*stem_frozen=*/false);
+  expect_identical_training(kept, recomputed, Frozen::nothing);
   EXPECT_EQ(budget->take_exceeding_passes(), 3);
   EXPECT_EQ(budget->take_exceeding_passes(), 0);
 }
@@ -210,30 +249,30 @@ TEST(ResNet18, APassWithinTheMemoryBudgetKeepsItsActivations) {
   const auto budget = std::make_shared<MemoryBudget>(std::int64_t{1} << 50);
   auto [kept, within] = recompute_pair(budget);
   within->train();
-  EXPECT_FALSE(graph_has(within->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedStage"));
+  EXPECT_FALSE(graph_has(within->forward(torch::randn({4, 3, 16, 20})).grad_fn(), "RecomputedSegment"));
   EXPECT_EQ(budget->take_exceeding_passes(), 0);
 }
 
-// The budget's estimate against what malloc hands out while the four stages run with a graph
-// (LMT108's map after the stem, a batch of 8): within 20%.
-TEST(ResNet18, PassBytesAfterTheStemEstimateWhatTheStagesKeep) {
+// The budget's estimate against what malloc hands out while the stem and the four stages run with
+// a graph (LMT108's input, a batch of 8): within 20%.
+TEST(ResNet18, PassBytesEstimateWhatTheStemAndStagesKeep) {
   ResNet18Encoder encoder(ResNet18Options{3, 64});
   encoder->train();
-  const torch::Tensor pooled = torch::randn({8, 64, 16, 124}, torch::requires_grad());
-  const auto run_stages = [&] {
-    torch::Tensor out = pooled;
-    for (int stage = 0; stage < 4; ++stage) out = encoder->run_stage(stage, out);
+  const torch::Tensor normalised = torch::randn({8, 3, 64, 493}, torch::requires_grad());
+  const auto run_segments = [&] {
+    torch::Tensor out = normalised;
+    for (int segment = 0; segment < 5; ++segment) out = encoder->run_segment(segment, out);
     return out;
   };
   // Bytes malloc has handed out, from its heaps and (large blocks) from mmap.
   const auto allocated = [] { return static_cast<std::int64_t>(mallinfo2().uordblks + mallinfo2().hblkhd); };
-  run_stages();  // oneDNN's one-time buffers are not activations
+  run_segments();  // oneDNN's one-time buffers are not activations
   const std::int64_t before = allocated();
-  const torch::Tensor out = run_stages();
+  const torch::Tensor out = run_segments();
   const std::int64_t kept = allocated() - before;
-  // The estimate also counts the stem map's gradients, which backward holds beside the stages.
-  const std::int64_t stem_gradients = 2 * 4 * pooled.numel() * 4;
-  const std::int64_t estimate = encoder->pass_bytes_after_stem(pooled) - stem_gradients;
+  // The estimate also counts the stem map's two gradients, which backward holds beside them.
+  const std::int64_t stem_gradients = 2 * 64 * 32 * 247 * 8 * 4;
+  const std::int64_t estimate = encoder->training_pass_bytes(normalised) - stem_gradients;
   EXPECT_NEAR(static_cast<double>(kept), static_cast<double>(estimate), 0.2 * static_cast<double>(estimate))
       << "kept " << kept << " bytes, estimated " << estimate;
 }
