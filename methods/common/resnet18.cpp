@@ -227,29 +227,28 @@ std::vector<torch::Tensor> ResNet18EncoderImpl::segment_parameters(int segment) 
 }
 
 std::int64_t ResNet18EncoderImpl::training_pass_bytes(const torch::Tensor& normalised) const {
-  const std::int64_t batch = normalised.size(0);
-  // The stem: 7x7, stride 2, padding 3; then the 3x3 max pool, stride 2, padding 1.
-  std::int64_t height = (normalised.size(2) - 1) / 2 + 1, width = (normalised.size(3) - 1) / 2 + 1;
-  const std::int64_t stem_map = widths_[0] * height * width;
-  height = (height - 1) / 2 + 1, width = (width - 1) / 2 + 1;
-  std::int64_t in_planes = widths_[0];
+  // The shapes as count_cost() walks them: the stem (7x7, stride 2, padding 3), its max pool and
+  // each stage's first convolution (3x3, stride 2, padding 1).
+  const MapShape input{normalised.size(1), normalised.size(2), normalised.size(3)};
+  const MapShape stem_map = window_output(input, widths_[0], 7, 7, 2, 3);
+  MapShape map = window_output(stem_map, widths_[0], 3, 3, 2, 1);
   // The stem keeps its channels-last copy of the input (its weight gradient reads it), its
   // convolution's output (the norm reads it) and its norm's output after ReLU (ReLU and the pool
   // read it), the pool's indices (int64: two floats each) and its contiguous output.
-  std::int64_t elements = normalised[0].numel() + 2 * stem_map + 3 * in_planes * height * width;
+  std::int64_t elements = input.elements() + 2 * stem_map.elements() + 3 * map.elements();
   for (int stage = 0; stage < kStages; ++stage) {
-    if (stage > 0) height = (height + 1) / 2, width = (width + 1) / 2;  // 3x3, stride 2, padding 1
+    const std::int64_t in_planes = map.channels;
+    map = stage > 0 ? window_output(map, widths_[stage], 3, 3, 2, 1) : MapShape{widths_[stage], map.height, map.width};
     // Each block keeps its two convolutions' outputs (its norms read them) and its two norms'
     // outputs (ReLU and the next convolution read them; the residual sum and the last ReLU work
     // in place); a block that changes the map keeps its shortcut convolution's output too (the
     // shortcut norm's output is summed in and freed).
     const bool shortcut = stage > 0 || in_planes != widths_[stage];
-    elements += (8 + (shortcut ? 1 : 0)) * widths_[stage] * height * width;
-    in_planes = widths_[stage];
+    elements += (8 + (shortcut ? 1 : 0)) * map.elements();
   }
   // Backward's gradients of the stem map at its norm's output and at its convolution's output.
-  elements += 2 * stem_map;
-  return elements * batch * static_cast<std::int64_t>(normalised.element_size());
+  elements += 2 * stem_map.elements();
+  return elements * normalised.size(0) * static_cast<std::int64_t>(normalised.element_size());
 }
 
 void ResNet18EncoderImpl::count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const {
