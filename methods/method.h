@@ -15,6 +15,7 @@
 #include "metrics/model_cost.h"
 #include "protocols/parameter_set.h"
 #include "protocols/progress_reporter.h"
+#include "protocols/session_outcome.h"
 
 namespace fscil {
 
@@ -38,6 +39,11 @@ struct InputShape {
 
 // What a method may use besides its data: seeded randomness, its parameters, the protocol's
 // size, the base validation split (never the test split) and a progress reporter.
+// Which epoch a method keeps at the points where the reference codes keep their best one
+// (RunOptions::selection): the last; the best on base validation; or, as those codes do, the best
+// on the test split (test_oracle: numbers inflated by looking at test, for measuring by how much).
+enum class EpochSelection { last, validation, test_oracle };
+
 struct RunContext {
   std::uint64_t seed = 0;
   std::mt19937_64 generator;
@@ -53,10 +59,32 @@ struct RunContext {
   // --max-memory: training passes that would pass it recompute as above (null: no limit).
   std::shared_ptr<MemoryBudget> memory_budget;
   const SessionData* validation = nullptr;
+  EpochSelection selection = EpochSelection::last;
+  // Under test_oracle only: the test samples of every class seen once the session being trained is
+  // learned (the base classes in train_base), what the reference codes score their epochs on.
+  const SessionData* oracle_test = nullptr;
+  // What base-session epochs are scored on: base validation, the base classes' test samples
+  // (test_oracle), or null when the last epoch is kept.
+  const SessionData* base_selection_data() const {
+    if (selection == EpochSelection::validation) return validation;
+    if (selection == EpochSelection::test_oracle) return oracle_test;
+    return nullptr;
+  }
   ProgressReporter* progress = nullptr;
   // Named measurements of the session being trained (base validation accuracy after a stage,
   // loss terms, ...): the runner stores them with that session's results and clears them.
   std::map<std::string, double> diagnostics;
+  // Every epoch of the session being trained, stored and cleared like `diagnostics`.
+  std::vector<EpochLog> training_log;
+  Stopwatch session_clock;  // restarted by the runner when a session begins
+
+  // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, and
+  // shows it as progress.
+  void log_epoch(const std::string& stage, int epoch, int epochs, std::map<std::string, double> values) {
+    values["seconds"] = session_clock.seconds();
+    if (progress != nullptr) progress->epoch(stage, epoch, epochs, values["loss"]);
+    training_log.push_back({stage, epoch, std::move(values)});
+  }
 };
 
 // Real old samples a method stores for replay; zero for methods that keep none.
@@ -90,6 +118,10 @@ class Method {
   // tests/methods/session_only_parameters_test.cpp trains a base with each changed and requires
   // the same state to the bit.
   virtual std::set<std::string> session_only_parameters() const { return {}; }
+  // True when RunContext::selection never changes what train_base() leaves (its epochs are chosen
+  // in sessions only): the stage cache then shares one base between selections.
+  // tests/methods/session_only_parameters_test.cpp holds every method that says so to it.
+  virtual bool base_ignores_selection() const { return false; }
   // Variants that differ only after the base session return the same non-empty key (for the same
   // hyper-parameters); the runner then trains the base once per seed and hands it on.
   virtual std::string shared_base_key() const { return {}; }

@@ -131,7 +131,8 @@ void describe_protocol(RunContext& context, const PreparedDataset& dataset, cons
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context, EvaluationSplit scored,
                                          const std::optional<InheritedBase>& inherited_base,
-                                         const SessionCheckpoints& checkpoints) {
+                                         const SessionCheckpoints& checkpoints,
+                                         const ScoredEmbeddingSink& keep_embeddings) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const std::vector<std::int64_t>& scored_segments = schedule.scored_segments(scored);
@@ -153,11 +154,22 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       context.progress->stage(fmt::format("session {}/{}: {} classes, {} training samples", session, plan.sessions - 1,
                                           data.new_classes.size(), data.labels.size(0)));
     }
+    std::optional<SessionData> oracle_test;
+    if (context.selection == EpochSelection::test_oracle) {
+      std::vector<std::int64_t> seen_test;
+      for (std::int64_t segment : schedule.scored_segments(EvaluationSplit::test)) {
+        if (schedule.label[segment] < plan.seen_after(session)) seen_test.push_back(segment);
+      }
+      oracle_test = gather_session(dataset, schedule, seen_test, session);
+    }
+    context.oracle_test = oracle_test ? &*oracle_test : nullptr;
     SessionOutcome outcome;
     outcome.session = session;
     outcome.seen_classes = plan.seen_after(session);
     Stopwatch train_clock;
     context.diagnostics.clear();
+    context.training_log.clear();
+    context.session_clock = Stopwatch();
     if (session > 0) {
       method.learn_session(data, context);
     } else if (!inherited_base) {
@@ -166,8 +178,10 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (context.memory_budget) {
       context.diagnostics["max_memory_recomputed_passes"] = static_cast<double>(context.memory_budget->take_exceeding_passes());
     }
+    context.oracle_test = nullptr;
     outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : train_clock.seconds();
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
+    outcome.training_log = session == 0 && inherited_base ? inherited_base->training_log : context.training_log;
 
     Stopwatch test_clock;
     const std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
@@ -183,6 +197,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       }
     }
     const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, torch::tensor(seen, torch::kLong)));
+    if (keep_embeddings) keep_embeddings(session, seen_embeddings, labels);
     outcome.accuracy = score_session(labels, to_vector<std::int64_t>(torch::cat(predictions)), plan.base_classes,
                                      plan.first_class_of(session), plan.seen_after(session));
     if (!segment_contexts.empty()) {

@@ -35,7 +35,13 @@ struct SessionCheckpoints {
 struct InheritedBase {
   double seconds = 0;
   std::map<std::string, double> diagnostics;
+  std::vector<EpochLog> training_log;
 };
+
+// Receives the embeddings (N x D, embed() of the scored samples of every seen class) and labels
+// each session was scored on (--save-embeddings).
+using ScoredEmbeddingSink =
+    std::function<void(int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels)>;
 
 // Drives any method through every session of the schedule and scores it after each on the
 // joint `scored` split (test, or validation) of all classes seen so far. The runner never knows
@@ -45,7 +51,8 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
                                          const SessionSchedule& schedule, RunContext& context,
                                          EvaluationSplit scored = EvaluationSplit::test,
                                          const std::optional<InheritedBase>& inherited_base = std::nullopt,
-                                         const SessionCheckpoints& checkpoints = {});
+                                         const SessionCheckpoints& checkpoints = {},
+                                         const ScoredEmbeddingSink& keep_embeddings = {});
 
 struct InferenceTiming {
   double seconds_per_sample = 0;

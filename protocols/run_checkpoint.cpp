@@ -108,11 +108,51 @@ bool read_diagnostics(const std::string& text, std::vector<SessionOutcome>& outc
   return true;
 }
 
+// One line per logged value: session, stage, epoch, name and value, tab-separated (stages hold spaces).
+std::string training_log_text(const std::vector<SessionOutcome>& outcomes) {
+  std::string text;
+  for (const auto& o : outcomes) {
+    for (const auto& row : o.training_log) {
+      for (const auto& [name, value] : row.values) {
+        text += fmt::format("{}\t{}\t{}\t{}\t{:.17g}\n", o.session, row.stage, row.epoch, name, value);
+      }
+    }
+  }
+  return text;
+}
+
+// False when a line does not name a finished session, a stage, an epoch, a name and a value.
+bool read_training_log(const std::string& text, std::vector<SessionOutcome>& outcomes) {
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<std::string> fields;
+    std::istringstream cells(line);
+    for (std::string field; std::getline(cells, field, '\t');) fields.push_back(field);
+    if (fields.size() != 5) return false;
+    char* end = nullptr;
+    const unsigned long session = std::strtoul(fields[0].c_str(), &end, 10);
+    if (*end != '\0' || fields[0].empty() || session >= outcomes.size()) return false;
+    const long epoch = std::strtol(fields[2].c_str(), &end, 10);
+    if (*end != '\0' || fields[2].empty()) return false;
+    const double value = std::strtod(fields[4].c_str(), &end);
+    if (fields[4].empty() || *end != '\0') return false;
+    auto& log = outcomes[session].training_log;
+    // Values of one epoch are consecutive lines.
+    if (log.empty() || log.back().stage != fields[1] || log.back().epoch != epoch) {
+      log.push_back({fields[1], static_cast<int>(epoch), {}});
+    }
+    log.back().values[fields[3]] = value;
+  }
+  return true;
+}
+
 std::string serialize(const RunCheckpoint& checkpoint) {
   torch::serialize::OutputArchive archive;
   archive.write("identity", text_tensor(checkpoint.identity));
   archive.write("outcomes", outcome_rows(checkpoint.outcomes));
   archive.write("diagnostics", text_tensor(diagnostics_text(checkpoint.outcomes)));
+  archive.write("training_log", text_tensor(training_log_text(checkpoint.outcomes)));
   archive.write("elapsed_seconds", torch::tensor(checkpoint.elapsed_seconds, torch::kDouble));
   std::ostringstream generator;
   generator << checkpoint.generator;
@@ -179,6 +219,12 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
     if (!read_diagnostics(tensor_text(read(archive, "diagnostics")), checkpoint.outcomes)) {
       throw ProtocolError(fmt::format("{}: corrupt checkpoint (a diagnostics line names no finished session)",
                                       path.string()));
+    }
+    // Checkpoints and cached bases written before the log was kept have none.
+    if (torch::Tensor log; archive.try_read("training_log", log) &&
+                           !read_training_log(tensor_text(log), checkpoint.outcomes)) {
+      throw ProtocolError(fmt::format("{}: corrupt checkpoint (a training log line is not session, stage, epoch, "
+                                      "name and value of a finished session)", path.string()));
     }
     checkpoint.elapsed_seconds = read(archive, "elapsed_seconds").item<double>();
     std::istringstream generator(tensor_text(read(archive, "generator")));

@@ -2,10 +2,20 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "metrics/session_accuracy.h"
 
 namespace fscil {
+
+// One epoch of a training stage as the method reported it: a row of the run's training log.
+struct EpochLog {
+  std::string stage;  // "pretrain", "pseudo-incremental", "projector", "session 3", ...
+  int epoch = 0;      // 1-based
+  // "loss" (the epoch's mean), its terms, "lr", "seconds" since the session began, and the score
+  // an epoch was chosen by where one was measured ("selection_score").
+  std::map<std::string, double> values;
+};
 
 // What the runner measured after one session.
 struct SessionOutcome {
@@ -20,6 +30,7 @@ struct SessionOutcome {
   double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
   // What the method reported while it trained this session (RunContext::diagnostics).
   std::map<std::string, double> diagnostics;
+  std::vector<EpochLog> training_log;  // RunContext::training_log of this session
 };
 
 }  // namespace fscil

@@ -36,7 +36,7 @@ std::string name_of(const RunRecord& record) { return record.source.empty() ? "t
 }  // namespace
 
 std::string incomparability(const RunRecord& a, const RunRecord& b) {
-  if (a.dataset != b.dataset) return "";
+  if (a.dataset != b.dataset || a.grid != b.grid) return "";
   if (a.dataset_key != b.dataset_key) return fmt::format("data {} against {}", a.dataset_key, b.dataset_key);
   if (a.profile != b.profile) return fmt::format("profile {} against {}", a.profile, b.profile);
   if (a.evaluated_on != b.evaluated_on) {
@@ -56,20 +56,22 @@ std::string incomparability(const RunRecord& a, const RunRecord& b) {
 void require_comparable_runs(const std::vector<RunRecord>& records) {
   // Comparability is equality of the fields above, so each run is checked against the first run
   // of its dataset and the first of its method there.
-  std::map<std::string, const RunRecord*> first_of_dataset;
-  std::map<std::pair<std::string, std::string>, const RunRecord*> first_of_method;
-  std::map<std::tuple<std::string, std::string, std::uint64_t>, const RunRecord*> run_of_seed;
+  std::map<std::pair<std::string, std::string>, const RunRecord*> first_of_dataset;  // per sweep cell
+  std::map<std::tuple<std::string, std::string, std::string>, const RunRecord*> first_of_method;
+  std::map<std::tuple<std::string, std::string, std::string, std::uint64_t>, const RunRecord*> run_of_seed;
   const auto refuse = [](const RunRecord& a, const RunRecord& b, const std::string& why) {
     throw ReportError(fmt::format("{} and {}: runs that cannot share a table ({}); keep them in separate folders",
                                   name_of(a), name_of(b), why));
   };
   for (const auto& record : records) {
-    for (const RunRecord* first : {first_of_dataset.emplace(record.dataset, &record).first->second,
-                                   first_of_method.emplace(std::pair(record.method, record.dataset), &record)
+    const std::string cell = grid_cell_name(record.grid);
+    for (const RunRecord* first : {first_of_dataset.emplace(std::pair(record.dataset, cell), &record).first->second,
+                                   first_of_method.emplace(std::tuple(record.method, record.dataset, cell), &record)
                                        .first->second}) {
       if (const std::string why = incomparability(*first, record); !why.empty()) refuse(*first, record, why);
     }
-    const auto [same_seed, unique] = run_of_seed.emplace(std::tuple(record.method, record.dataset, record.seed), &record);
+    const auto [same_seed, unique] =
+        run_of_seed.emplace(std::tuple(record.method, record.dataset, cell, record.seed), &record);
     if (!unique) refuse(*same_seed->second, record, fmt::format("{} seed {} twice", record.method, record.seed));
   }
 }

@@ -12,12 +12,13 @@ namespace {
 
 constexpr double kMebibyte = 1024.0 * 1024.0;
 
-// Index of the row of (method, dataset), appended when new.
+// Index of the row of (method, dataset, cell), appended when new.
 std::size_t row_index(std::vector<CostRow>& rows, const RunRecord& record) {
+  const std::string cell = grid_cell_name(record.grid);
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].method == record.method && rows[i].dataset == record.dataset) return i;
+    if (rows[i].method == record.method && rows[i].dataset == record.dataset && rows[i].cell == cell) return i;
   }
-  rows.push_back(CostRow{record.method, record.dataset});
+  rows.push_back(CostRow{record.method, record.dataset, cell});
   return rows.size() - 1;
 }
 
@@ -41,6 +42,13 @@ const std::vector<Column>& columns() {
   };
   return table;
 }
+
+bool any_cell(const std::vector<CostRow>& rows) {
+  return std::any_of(rows.begin(), rows.end(), [](const CostRow& row) { return !row.cell.empty(); });
+}
+
+// The method, and its sweep cell when it has one.
+std::string label_of(const CostRow& row) { return row.cell.empty() ? row.method : row.method + " [" + row.cell + "]"; }
 
 }  // namespace
 
@@ -78,11 +86,13 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
 }
 
 std::string render_cost_csv(const std::vector<CostRow>& rows) {
-  std::string out = "method,dataset,runs";
+  const bool cells = any_cell(rows);
+  std::string out = cells ? "method,dataset,cell,runs" : "method,dataset,runs";
   for (const auto& column : columns()) out += fmt::format(",{}", column.csv);
   out += "\n";
   for (const auto& row : rows) {
-    out += fmt::format("{},{},{}", row.method, row.dataset, row.runs);
+    out += cells ? fmt::format("{},{},{},{}", row.method, row.dataset, row.cell, row.runs)
+                 : fmt::format("{},{},{}", row.method, row.dataset, row.runs);
     for (const auto& column : columns()) out += "," + column.text(row);
     out += "\n";
   }
@@ -97,7 +107,7 @@ std::string render_cost_latex(const std::vector<CostRow>& rows) {
   for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
   out += " \\\\\n\\midrule\n";
   for (const auto& row : rows) {
-    out += fmt::format("{} & {}", latex_text(row.method), latex_text(row.dataset));
+    out += fmt::format("{} & {}", latex_text(label_of(row)), latex_text(row.dataset));
     for (const auto& column : columns()) out += " & " + column.text(row);
     out += " \\\\\n";
   }
@@ -111,7 +121,7 @@ std::string render_cost_markdown(const std::vector<CostRow>& rows) {
   for (std::size_t c = 0; c < columns().size(); ++c) out += "---:|";
   out += "\n";
   for (const auto& row : rows) {
-    out += fmt::format("| {} | {} |", row.method, row.dataset);
+    out += fmt::format("| {} | {} |", label_of(row), row.dataset);
     for (const auto& column : columns()) out += fmt::format(" {} |", column.text(row));
     out += "\n";
   }

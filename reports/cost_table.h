@@ -14,6 +14,7 @@ namespace fscil {
 struct CostRow {
   std::string method;
   std::string dataset;
+  std::string cell;  // the sweep cell, grid_cell_name(RunRecord::grid); "" outside a sweep
   std::size_t runs = 0;
   double mega_flops = 0;              // per sample, 2 x MACs; largest over seeds
   double parameters_millions = 0;     // all parameters; largest over seeds
@@ -26,7 +27,7 @@ struct CostRow {
   double replay_mib = 0;
 };
 
-// Rows in order of first appearance of (method, dataset).
+// Rows in order of first appearance of (method, dataset, sweep cell).
 std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records);
 
 std::string render_cost_csv(const std::vector<CostRow>& rows);

@@ -51,6 +51,15 @@ std::string label_of(const PaperComparisonRow& row) {
 
 }  // namespace
 
+std::string paper_dataset_of(const std::string& dataset, bool* simulated) {
+  for (const auto& match : kDatasets) {
+    if (dataset != match.ours) continue;
+    if (simulated != nullptr) *simulated = match.simulated;
+    return match.paper;
+  }
+  return "";
+}
+
 std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, const std::vector<PaperRow>& paper) {
   if (ours.evaluated_on != "test") {
     throw ReportError(fmt::format("these runs were scored on the {} split; the paper's numbers are test-split numbers",

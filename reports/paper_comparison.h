@@ -21,6 +21,10 @@ struct PaperComparisonRow {
   std::size_t sessions = 0;
 };
 
+// The paper's name of the dataset our `dataset` is or imitates ("" when the paper has none), and
+// whether ours is simulated.
+std::string paper_dataset_of(const std::string& dataset, bool* simulated = nullptr);
+
 std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, const std::vector<PaperRow>& paper);
 
 // Per compared row three lines: ours, paper, ours - paper.

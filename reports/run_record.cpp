@@ -21,6 +21,7 @@ using nlohmann::json;
 
 namespace {
 constexpr int kSchemaVersion = 1;
+constexpr const char* kGridCharacters = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-";
 
 // JSON has no NaN: unknown values are null.
 json number_or_null(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
@@ -47,6 +48,16 @@ T whole_number(const json& value, const std::string& field, const std::string& o
   return value.get<T>();
 }
 
+json training_log_json(const std::vector<EpochLog>& log) {
+  json rows = json::array();
+  for (const auto& row : log) {
+    json values = json::object();
+    for (const auto& [name, value] : row.values) values[name] = number_or_null(value);
+    rows.push_back({{"stage", row.stage}, {"epoch", row.epoch}, {"values", values}});
+  }
+  return rows;
+}
+
 std::string safe_name(std::string text) {
   for (char& c : text) {
     if (c == '/' || c == ' ' || c == '+') c = '_';
@@ -65,6 +76,22 @@ std::string run_record_file_name(const RunRecord& record) {
   return fmt::format("{}__{}__seed{}.json", safe_name(record.method), safe_name(record.dataset), record.seed);
 }
 
+bool is_selection_name(const std::string& name) {
+  return name == "last" || name == "validation" || name == "test-oracle";
+}
+
+bool selected_on_test(const RunRecord& record) { return record.selection == "test-oracle"; }
+
+bool is_grid_text(const std::string& text) {
+  return !text.empty() && text.find_first_not_of(kGridCharacters) == std::string::npos;
+}
+
+std::string grid_cell_name(const std::map<std::string, std::string>& grid) {
+  std::string name;
+  for (const auto& [key, value] : grid) name += (name.empty() ? "" : "+") + key + "=" + value;
+  return name;
+}
+
 std::string to_json_text(const RunRecord& record) {
   json sessions = json::array();
   for (const auto& s : record.sessions) {
@@ -80,7 +107,8 @@ std::string to_json_text(const RunRecord& record) {
                         {"test_seconds", s.test_seconds},
                         {"context_ratio_mean", number_or_null(s.context_ratio_mean)},
                         {"context_ratio_max", number_or_null(s.context_ratio_max)},
-                        {"diagnostics", s.diagnostics}});
+                        {"diagnostics", s.diagnostics},
+                        {"training_log", training_log_json(s.training_log)}});
   }
   const json document = {{"schema", kSchemaVersion},
                          {"method", record.method},
@@ -89,6 +117,8 @@ std::string to_json_text(const RunRecord& record) {
                          {"seed", record.seed},
                          {"threads", record.threads},
                          {"evaluated_on", record.evaluated_on},
+                         {"selection", record.selection},
+                         {"grid", record.grid},
                          {"parameters", record.parameters},
                          {"protocol_parameters", record.protocol_parameters},
                          {"machine", record.machine},
@@ -135,6 +165,21 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin,
                                     shown_text(record.evaluated_on)));
     }
+    record.selection = document.value("selection", std::string("last"));  // files from before the choice
+    if (!is_selection_name(record.selection)) {
+      throw ReportError(fmt::format("{}: selection '{}', expected last, validation or test-oracle", origin,
+                                    shown_text(record.selection)));
+    }
+    if (document.contains("grid")) record.grid = document.at("grid").get<std::map<std::string, std::string>>();
+    for (const auto& [key, value] : record.grid) {
+      // Cell values become CSV fields and folder names as they are.
+      for (const std::string& text : {key, value}) {
+        if (!is_grid_text(text)) {
+          throw ReportError(fmt::format("{}: grid {}={}, expected letters, digits, '_', '.' or '-'", origin,
+                                        shown_text(key), shown_text(value)));
+        }
+      }
+    }
     record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
     if (document.contains("protocol_parameters")) {
       record.protocol_parameters = document.at("protocol_parameters").get<std::map<std::string, std::string>>();
@@ -179,6 +224,24 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
         // NaN (a diverged loss) and infinities were written as null.
         for (const auto& [name, value] : s.at("diagnostics").get<std::map<std::string, json>>()) {
           session.diagnostics[name] = number_from(value);
+        }
+      }
+      if (s.contains("training_log")) {  // files written before the log was kept have none
+        for (const auto& row : s.at("training_log")) {
+          EpochLog epoch{row.at("stage").get<std::string>(), whole_number<int>(row.at("epoch"), "epoch", origin), {}};
+          // Stages become CSV fields of the training log as they are.
+          if (epoch.stage.empty() || epoch.stage.find_first_of(",\"\t\r\n") != std::string::npos) {
+            throw ReportError(fmt::format("{}: training log stage '{}', expected text without commas, quotes or "
+                                          "line breaks", origin, shown_text(epoch.stage)));
+          }
+          for (const auto& [name, value] : row.at("values").get<std::map<std::string, json>>()) {
+            if (name.empty() || name.find_first_of(",\"\t\r\n") != std::string::npos) {
+              throw ReportError(fmt::format("{}: training log value '{}', expected a name without commas, quotes or "
+                                            "line breaks", origin, shown_text(name)));
+            }
+            epoch.values[name] = number_from(value);
+          }
+          session.training_log.push_back(std::move(epoch));
         }
       }
       for (const double accuracy : {session.accuracy.all, session.accuracy.base, session.accuracy.novel,

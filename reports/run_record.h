@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "metrics/session_accuracy.h"
+#include "protocols/session_outcome.h"
 
 namespace fscil {
 
@@ -22,6 +23,8 @@ struct SessionRecord {
   // What the method reported while it trained this session (base validation accuracy after each
   // stage, mean loss terms, PSPC's effective shots, ...).
   std::map<std::string, double> diagnostics;
+  // Every epoch the method trained in this session (stage, epoch, loss, its terms, lr, seconds).
+  std::vector<EpochLog> training_log;
 };
 
 // The trained model's inference cost per sample, after the last session (rules in
@@ -45,6 +48,12 @@ struct RunRecord {
   // The split every session was scored on: "test", or "validation" (the protocol defaults are
   // chosen on). Files written before the choice existed were scored on test.
   std::string evaluated_on = "test";
+  // How training epochs were chosen where a reference code chooses them (RunOptions::selection):
+  // "last", "validation", or "test-oracle" (by test score, the reference codes' habit: inflated).
+  std::string selection = "last";
+  // The sweep cell this run belongs to (fscil-bench sweep --grid key=values): key -> value. Runs
+  // of different cells are different rows of every table. Empty outside a sweep.
+  std::map<std::string, std::string> grid;
   std::map<std::string, std::string> parameters;  // every hyper-parameter and knob used
   // The subset of `parameters` the dataset and the session protocol read (way, shot, context
   // strength, ...): runs of different methods compare only when these agree. Empty in files
@@ -69,6 +78,13 @@ struct RunRecord {
 };
 
 std::string run_record_file_name(const RunRecord& record);
+// The selections a result file may name, and whether one was chosen on the test split.
+bool is_selection_name(const std::string& name);
+bool selected_on_test(const RunRecord& record);
+// A sweep key or value: letters, digits, '_', '.' and '-' only (it names folders and fills CSV fields).
+bool is_grid_text(const std::string& text);
+// "key=value+key=value" of a sweep cell (folder name of the cell; "" outside a sweep).
+std::string grid_cell_name(const std::map<std::string, std::string>& grid);
 std::string to_json_text(const RunRecord& record);
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <set>
+#include <tuple>
 
 #include "metrics/fscil_metrics.h"
 #include "metrics/statistics.h"
@@ -29,11 +30,31 @@ std::vector<std::string> SummaryTable::datasets() const {
   return names;
 }
 
+std::vector<std::string> SummaryTable::grid_keys() const {
+  std::vector<std::string> keys;
+  for (const auto& row : rows) {
+    for (const auto& [key, value] : row.grid) {
+      // A sweep over selection has its own column.
+      if (key != "selection" && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    }
+  }
+  return keys;
+}
+
+std::string row_label(const SummaryRow& row) {
+  if (row.selection == "test-oracle") return row.method + " (selected on test (inflated))";
+  if (row.selection == "validation") return row.method + " (selected on validation)";
+  return row.method;
+}
+
 SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
-  std::vector<std::pair<std::string, std::string>> keys;
+  using Key = std::tuple<std::string, std::string, std::map<std::string, std::string>, std::string>;
+  const auto key_of = [](const RunRecord& record) {
+    return Key(record.method, record.dataset, record.grid, record.selection);
+  };
+  std::vector<Key> keys;
   for (const auto& record : records) {
-    const auto key = std::make_pair(record.method, record.dataset);
-    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+    if (std::find(keys.begin(), keys.end(), key_of(record)) == keys.end()) keys.push_back(key_of(record));
   }
   SummaryTable table;
   if (!records.empty()) table.evaluated_on = records.front().evaluated_on;
@@ -45,14 +66,17 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
                                     record.dataset, record.seed, record.evaluated_on));
     }
   }
-  for (const auto& [method, dataset] : keys) {
+  for (const auto& key : keys) {
+    const auto& [method, dataset, grid, selection] = key;
     SummaryRow row;
     row.method = method;
     row.dataset = dataset;
+    row.grid = grid;
+    row.selection = selection;
     std::vector<std::vector<double>> per_session, base_per_session, novel_per_session, harmonic_per_session;
     std::vector<double> aa, pd, adr;
     for (const auto& record : records) {
-      if (record.method != method || record.dataset != dataset) continue;
+      if (key_of(record) != key) continue;
       if (std::find(row.seeds.begin(), row.seeds.end(), record.seed) != row.seeds.end()) {
         throw ReportError(fmt::format("{} on {}: seed {} appears in two result files", method, dataset, record.seed));
       }

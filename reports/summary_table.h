@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct SeedStatistic {
 struct SummaryRow {
   std::string method;
   std::string dataset;
+  std::map<std::string, std::string> grid;  // the sweep cell (RunRecord::grid)
+  std::string selection = "last";           // RunRecord::selection
   std::vector<std::uint64_t> seeds;
   std::vector<SeedStatistic> session_accuracy;
   // Per session, on the base classes' samples, on the novel classes' samples and their harmonic
@@ -33,9 +36,16 @@ struct SummaryTable {
   std::string evaluated_on = "test";  // the split every run was scored on (RunRecord::evaluated_on)
   bool several_seeds() const;
   std::vector<std::string> datasets() const;
+  // The sweep keys of any row but selection (a column of its own), in order of first appearance:
+  // columns of every rendering.
+  std::vector<std::string> grid_keys() const;
 };
 
-// Groups records by (method, dataset). Throws ReportError when runs of one group disagree on
+// What a row is called in a table: the method, and for a selection other than the last epoch how
+// its epochs were chosen ("selected on test (inflated)": never to be read as an honest result).
+std::string row_label(const SummaryRow& row);
+
+// Groups records by (method, dataset, sweep cell, selection). Throws ReportError when runs of one group disagree on
 // the number of sessions or repeat a seed, and when some runs were scored on the test split and
 // others on the validation split: one table never mixes the two.
 SummaryTable summarize_runs(const std::vector<RunRecord>& records);
@@ -45,8 +55,5 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records);
 std::string render_csv(const SummaryTable& table);
 std::string render_latex(const SummaryTable& table);
 std::string render_markdown(const SummaryTable& table);
-// Tidy per-session CSV, one line per (method, dataset, session): all, base and novel accuracy and
-// their harmonic mean, each with its std over seeds; novel and harmonic mean empty in session 0.
-std::string render_sessions_csv(const SummaryTable& table);
 
 }  // namespace fscil

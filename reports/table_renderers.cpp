@@ -47,14 +47,15 @@ std::vector<Column> paper_columns(std::size_t sessions) {
   return columns;
 }
 
-// Best means after rounding to the two decimals shown, so ties are all marked.
+// Best means after rounding to the two decimals shown, so ties are all marked; among honest rows
+// only (epochs chosen on test are never best).
 bool is_best(const Column& column, const SummaryRow& row, const std::vector<const SummaryRow*>& rows) {
   const SeedStatistic* mine = column.value(row);
-  if (mine == nullptr || rows.size() < 2) return false;
+  if (mine == nullptr || rows.size() < 2 || row.selection == "test-oracle") return false;
   const double shown = std::round(mine->mean * 100);
   for (const auto* other : rows) {
     const SeedStatistic* theirs = column.value(*other);
-    if (theirs == nullptr) continue;
+    if (theirs == nullptr || other->selection == "test-oracle") continue;
     const double value = std::round(theirs->mean * 100);
     if (column.higher_is_better ? value > shown : value < shown) return false;
   }
@@ -70,6 +71,11 @@ std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus
          fmt::format(fmt::runtime(interval), statistic->mean - statistic->ci95, statistic->mean + statistic->ci95);
 }
 
+std::string grid_value(const SummaryRow& row, const std::string& key) {
+  const auto found = row.grid.find(key);
+  return found == row.grid.end() ? std::string() : found->second;
+}
+
 }  // namespace
 
 std::string render_csv(const SummaryTable& table) {
@@ -77,7 +83,10 @@ std::string render_csv(const SummaryTable& table) {
   for (const auto& row : table.rows) all.push_back(&row);
   const std::size_t sessions = max_sessions(all);
   const bool with_std = table.several_seeds();
-  std::string out = "method,dataset,split,seeds,AA,PD,ADR";
+  const auto grid_keys = table.grid_keys();
+  std::string out = "method,dataset";
+  for (const auto& key : grid_keys) out += "," + key;
+  out += ",split,selection,seeds,AA,PD,ADR";
   for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}", s);
   if (with_std) {
     out += ",AA_std,PD_std,ADR_std";
@@ -87,8 +96,9 @@ std::string render_csv(const SummaryTable& table) {
   }
   out += "\n";
   for (const auto* row : all) {
-    out += fmt::format("{},{},{},{},{:.4f},{:.4f},{:.4f}", row->method, row->dataset, table.evaluated_on,
-                       fmt::join(row->seeds, " "),
+    out += fmt::format("{},{}", row->method, row->dataset);
+    for (const auto& key : grid_keys) out += "," + grid_value(*row, key);
+    out += fmt::format(",{},{},{},{:.4f},{:.4f},{:.4f}", table.evaluated_on, row->selection, fmt::join(row->seeds, " "),
                        row->average_accuracy.mean, row->performance_drop.mean, row->average_drop_rate.mean);
     for (std::size_t s = 0; s < sessions; ++s) {
       out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].mean) : ",";
@@ -110,21 +120,6 @@ std::string render_csv(const SummaryTable& table) {
   return out;
 }
 
-std::string render_sessions_csv(const SummaryTable& table) {
-  std::string out = "method,dataset,split,seeds,session,accuracy,accuracy_std,base,base_std,novel,novel_std,"
-                    "harmonic_mean,harmonic_mean_std\n";
-  const auto both = [](const SeedStatistic& statistic) { return fmt::format("{:.4f},{:.4f}", statistic.mean, statistic.std); };
-  for (const auto& row : table.rows) {
-    for (std::size_t s = 0; s < row.session_accuracy.size(); ++s) {
-      out += fmt::format("{},{},{},{},{},{},{},{},{}\n", row.method, row.dataset, table.evaluated_on,
-                         fmt::join(row.seeds, " "), s, both(row.session_accuracy[s]), both(row.session_base_accuracy[s]),
-                         s == 0 ? "," : both(row.session_novel_accuracy[s]),
-                         s == 0 ? "," : both(row.session_harmonic_mean[s]));
-    }
-  }
-  return out;
-}
-
 std::string render_latex(const SummaryTable& table) {
   const bool with_std = table.several_seeds();
   std::string out = "% fscil-bench results; requires \\usepackage{booktabs,multirow}\n";
@@ -135,16 +130,22 @@ std::string render_latex(const SummaryTable& table) {
     out += "\\begin{table*}[!t]\n\\centering\n";
     out += fmt::format("\\caption{{Comparison on {}, {} split{}.}}\n", latex_text(dataset), table.evaluated_on,
                        with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
-    out += fmt::format("\\begin{{tabular}}{{l{}ccc}}\n\\toprule\n", std::string(sessions, 'c'));
+    const auto grid_keys = table.grid_keys();
+    out += fmt::format("\\begin{{tabular}}{{{}l{}ccc}}\n\\toprule\n", std::string(grid_keys.size(), 'l'),
+                       std::string(sessions, 'c'));
+    for (const auto& key : grid_keys) out += fmt::format("\\multirow{{2}}{{*}}{{{}}} & ", latex_text(key));
     out += fmt::format("\\multirow{{2}}{{*}}{{Method}} & \\multicolumn{{{}}}{{c}}{{Accuracy in each session $\\uparrow$}}"
                        " & \\multirow{{2}}{{*}}{{PD$\\downarrow$}} & \\multirow{{2}}{{*}}{{AA$\\uparrow$}}"
                        " & \\multirow{{2}}{{*}}{{ADR$\\downarrow$}} \\\\\n",
                        sessions);
-    out += fmt::format("\\cmidrule(lr){{2-{}}}\n", sessions + 1);
+    out += fmt::format("\\cmidrule(lr){{{}-{}}}\n", grid_keys.size() + 2, grid_keys.size() + sessions + 1);
+    out += std::string(grid_keys.size() * 2, ' ');
+    for (std::size_t k = 0; k < grid_keys.size(); ++k) out += "&";
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(" & {}", s);
     out += " & & & \\\\\n\\midrule\n";
     for (const auto* row : rows) {
-      out += latex_text(row->method);
+      for (const auto& key : grid_keys) out += latex_text(grid_value(*row, key)) + " & ";
+      out += latex_text(row_label(*row));
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
         out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
@@ -162,13 +163,20 @@ std::string render_markdown(const SummaryTable& table) {
   for (const auto& dataset : table.datasets()) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
-    out += fmt::format("### {}, {} split{}\n\n| method |", dataset, table.evaluated_on, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
+    const auto grid_keys = table.grid_keys();
+    out += fmt::format("### {}, {} split{}\n\n|", dataset, table.evaluated_on, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
+    for (const auto& key : grid_keys) out += fmt::format(" {} |", key);
+    out += " method |";
     for (const auto& column : columns) out += fmt::format(" {} |", column.title);
-    out += "\n|---|";
+    out += "\n|";
+    for (std::size_t k = 0; k < grid_keys.size(); ++k) out += "---|";
+    out += "---|";
     for (std::size_t c = 0; c < columns.size(); ++c) out += "---:|";
     out += "\n";
     for (const auto* row : rows) {
-      out += fmt::format("| {} |", row->method);
+      out += "|";
+      for (const auto& key : grid_keys) out += fmt::format(" {} |", grid_value(*row, key));
+      out += fmt::format(" {} |", row_label(*row));
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, " ± ");
         out += is_best(column, *row, rows) ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);

@@ -20,7 +20,9 @@
 #include "tools/machine_info.h"
 #include "tools/reference_command.h"
 #include "tools/report_writer.h"
+#include "tools/reproduce_command.h"
 #include "tools/run_command.h"
+#include "tools/sweep_command.h"
 
 namespace {
 
@@ -94,10 +96,37 @@ int main(int argc, char** argv) {
                  "test | validation: score every session on the test split, or on the validation split of every "
                  "class (choose defaults there, never on test)")
       ->capture_default_str();
+  app.add_option("--selection", run.selection,
+                 "last | validation | test-oracle: which epoch a method keeps where the reference codes choose "
+                 "one (last: the last epoch; validation: the best on base validation; test-oracle: the best on the "
+                 "test split, as the reference codes do: inflated, labelled so in every table)")
+      ->capture_default_str();
+  app.add_option("--save-embeddings", run.save_embeddings,
+                 "last | all | session numbers (0,9): keep the scored test embeddings of those sessions in "
+                 "OUT/embeddings/RUN.h5 (for the embedding figure of fscil-bench reproduce embedding)");
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
   app.add_flag("--quiet", run.quiet, "no progress on stderr");
 
   auto* list = app.add_subcommand("list", "List methods, datasets and profiles, one line each");
+
+  std::vector<std::string> grid;
+  auto* sweep = app.add_subcommand(
+      "sweep", "Run the command once per cell of the grid (every combination of the --grid values) into "
+               "OUT/cells/, then tables over all cells with a column per key; takes every run option");
+  sweep->add_option("--grid", grid,
+                    "key=value1,value2,...: a --set key (or shot, way, selection) and its values (repeatable)")
+      ->required();
+  sweep->fallthrough();  // the run options (--methods, --dataset, --set, ...) belong to the main command
+
+  std::string reproduction;
+  bool list_reproductions = false;
+  auto* reproduce = app.add_subcommand(
+      "reproduce", "Run one of the paper's tables or figures and write it in the paper's layout (NAME.tex, .md, "
+                   ".csv, figures/, index.html), our numbers beside the paper's; takes the run options but --methods "
+                   "(default --out: reproductions/NAME/DATASET)");
+  reproduce->add_option("name", reproduction, "which one (see: fscil-bench reproduce --list)");
+  reproduce->add_flag("--list", list_reproductions, "name every reproduction, its caption and what it runs");
+  reproduce->fallthrough();
 
   fscil::LogMelOptions logmel;
   auto* logmel_command = app.add_subcommand("logmel", "Compute log-Mel spectrograms of an HDF5 signal");
@@ -164,6 +193,12 @@ int main(int argc, char** argv) {
   try {
     if (list->parsed()) {
       print_catalogue();
+    } else if (reproduce->parsed() && (list_reproductions || reproduction.empty())) {
+      if (!list_reproductions) {
+        fmt::print(stderr, "fscil-bench: error: reproduce: expected a NAME or --list\n");
+        return 2;
+      }
+      fmt::print("{}", fscil::list_reproductions());
     } else if (logmel_command->parsed()) {
       fscil::run_logmel(logmel);
     } else if (report->parsed()) {
@@ -175,7 +210,10 @@ int main(int argc, char** argv) {
     } else if (reference->parsed()) {
       fscil::write_reference(reference_results, reference_out, reference_tolerance);
     } else {
-      if (run.methods.empty() || run.dataset.empty()) {
+      // The main job, a sweep of it, or a reproduction.
+      if (reproduce->parsed()) {
+        if (app.count("--out") == 0 && resume_dir.empty()) run.out = "reproductions/" + reproduction + "/" + run.dataset;
+      } else if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");
         return 2;
       }
@@ -188,7 +226,9 @@ int main(int argc, char** argv) {
         run.out = resume_dir;
         run.resume = true;
       }
-      fscil::run_benchmark(run);
+      fmt::print("{}", reproduce->parsed() ? fscil::run_reproduction(reproduction, run)
+                       : sweep->parsed()   ? fscil::run_sweep(run, grid)
+                                           : fscil::run_benchmark(run));
     }
     // Tables printed to a full disk or a closed pipe are a failure, not a success.
     errno = 0;

@@ -2,19 +2,38 @@
 
 #include "reports/atomic_file.h"
 #include "reports/cost_table.h"
+#include "reports/figure_writer.h"
+#include "reports/report_page.h"
+#include "reports/run_figures.h"
 #include "reports/paper_comparison.h"
 #include "reports/summary_table.h"
+#include "reports/tidy_sessions.h"
+#include "reports/training_log.h"
 
 namespace fscil {
 
 std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records) {
   const SummaryTable table = summarize_runs(records);
   write_file_atomically(out / "summary.csv", render_csv(table));
-  write_file_atomically(out / "sessions.csv", render_sessions_csv(table));
+  write_file_atomically(out / "sessions.csv", render_tidy_sessions_csv(records));
   write_file_atomically(out / "results.tex", render_latex(table));
+  for (const auto& record : records) {
+    write_file_atomically(out / training_log_path(record), render_training_log_csv(record));
+  }
   const std::vector<CostRow> costs = summarize_costs(records);
   write_file_atomically(out / "costs.csv", render_cost_csv(costs));
   write_file_atomically(out / "costs.tex", render_cost_latex(costs));
+  for (const auto& dataset : table.datasets()) {
+    for (const SessionMetric metric : {SessionMetric::all, SessionMetric::base, SessionMetric::novel,
+                                       SessionMetric::harmonic}) {
+      write_figure(out, session_accuracy_figure(table, dataset, metric));
+    }
+    if (const Figure context = context_ratio_figure(records, dataset); !context.series.empty()) {
+      write_figure(out, context);
+    }
+    for (const Figure& figure : efficiency_figures(costs, dataset)) write_figure(out, figure);
+  }
+  write_report_page(out);
   return render_markdown(table) + "\n" + render_cost_markdown(costs);
 }
 

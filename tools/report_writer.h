@@ -6,8 +6,10 @@
 
 namespace fscil {
 
-// Writes summary.csv, sessions.csv, results.tex, costs.csv and costs.tex into `out` and returns the Markdown
-// tables (accuracy, then cost).
+// Writes summary.csv, sessions.csv, results.tex, costs.csv, costs.tex, each run's training log
+// (logs/), the figures of every dataset (figures/: accuracy per session on all, base and novel
+// classes and their harmonic mean, R per session, efficiency) and the report page index.html into
+// `out`, and returns the Markdown tables (accuracy, then cost).
 std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records);
 
 // The paper's tables as shipped in the source tree.

@@ -8,9 +8,11 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <set>
 #include <thread>
 
 #include "datasets/dataset_catalog.h"
+#include "datasets/hdf5_file.h"
 #include "datasets/segment_cache.h"
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
@@ -73,9 +75,10 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
 std::string identity_of(const RunRecord& record) {
   std::map<std::string, std::string> parameters = record.parameters;
   parameters.erase("base_training");  // how the base was obtained, not what it is
-  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} parameters={}",
-                     record.method, record.dataset, record.dataset_key, record.seed, record.threads, record.profile,
-                     record.evaluated_on, stable_hash(parameters));
+  return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} selection={} cell={} "
+                     "parameters={}", record.method, record.dataset, record.dataset_key, record.seed, record.threads,
+                     record.profile, record.evaluated_on, record.selection, grid_cell_name(record.grid),
+                     stable_hash(parameters));
 }
 
 fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
@@ -116,6 +119,45 @@ void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& o
   }
 }
 
+// The sessions --save-embeddings names, as a test of a session number (of `sessions`).
+std::function<bool(int)> sessions_to_save(const std::string& text, int sessions) {
+  if (text.empty()) return {};
+  if (text == "all") return [](int) { return true; };
+  if (text == "last") return [sessions](int session) { return session == sessions - 1; };
+  std::set<int> chosen;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', start), text.size());
+    const std::string field = text.substr(start, comma - start);
+    char* end = nullptr;
+    const long session = std::strtol(field.c_str(), &end, 10);
+    if (field.empty() || *end != '\0' || session < 0 || session >= sessions) {
+      throw ProtocolError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0 to {}, "
+                                      "comma-separated", text, sessions - 1));
+    }
+    chosen.insert(static_cast<int>(session));
+    start = comma + 1;
+  }
+  return [chosen](int session) { return chosen.count(session) > 0; };
+}
+
+// The embeddings --save-embeddings keeps of one run, written as one HDF5 file.
+struct SavedEmbeddings {
+  std::map<int, FloatArray> embeddings;
+  std::map<int, std::vector<std::int32_t>> labels;
+
+  void write(const fs::path& path, int base_classes) const {
+    Hdf5Contents contents;
+    for (const auto& [session, array] : embeddings) {
+      contents.floats[fmt::format("session_{}_embeddings", session)] = &array;
+      contents.integers[fmt::format("session_{}_labels", session)] = labels.at(session);
+    }
+    contents.integers["base_classes"] = {base_classes};
+    for (const auto& [session, array] : embeddings) contents.integers["sessions"].push_back(session);
+    write_hdf5_atomically(path, contents);
+  }
+};
+
 }  // namespace
 
 int configure_threads(int requested) {
@@ -124,8 +166,11 @@ int configure_threads(int requested) {
   return threads;
 }
 
-void run_benchmark(const RunOptions& options) {
+std::string run_benchmark(const RunOptions& options) {
   if (options.out.empty()) throw ProtocolError("--out '': expected a folder for the results");
+  if (!is_selection_name(options.selection)) {
+    throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
+  }
   if (options.resume && !fs::is_directory(options.out)) {
     throw ProtocolError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the "
                                     "interrupted command)", options.out));
@@ -147,6 +192,9 @@ void run_benchmark(const RunOptions& options) {
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
   const bool recompute_activations = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
+  const EpochSelection selection = options.selection == "validation"    ? EpochSelection::validation
+                                   : options.selection == "test-oracle" ? EpochSelection::test_oracle
+                                                                        : EpochSelection::last;
   const std::int64_t memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
   // One budget for the command: a base handed on between runs keeps its encoder, and with it this.
   const auto memory_budget = memory_limit > 0 ? std::make_shared<MemoryBudget>(memory_limit) : nullptr;
@@ -179,6 +227,7 @@ void run_benchmark(const RunOptions& options) {
                                       error.what()));
     }
   }
+  const auto save_session = sessions_to_save(options.save_embeddings, schedules.front().plan.sessions);
   std::vector<const ParameterSet*> readers = {&protocol_params, &dataset_params};
   for (const auto& method_param : method_params) readers.push_back(&method_param);
   reject_unread_keys(params, readers);
@@ -188,6 +237,9 @@ void run_benchmark(const RunOptions& options) {
   // Like recompute: the same numbers, another peak. Named only when given, so runs without it
   // keep their identity.
   if (memory_limit > 0) protocol_parameters["max_memory"] = std::to_string(memory_limit);
+  // Chosen on test or on validation: never one table with runs of the last epoch (named only when
+  // given, like max_memory).
+  if (options.selection != "last") protocol_parameters["selection"] = options.selection;
   // What a run of this command is before it trains: its identity, and the start of its record.
   const auto planned_run = [&](const std::string& method, const ParameterSet& method_parameters, std::uint64_t seed) {
     RunRecord run;
@@ -197,6 +249,8 @@ void run_benchmark(const RunOptions& options) {
     run.seed = seed;
     run.threads = threads;
     run.evaluated_on = to_string(evaluation);
+    run.selection = options.selection;
+    run.grid = options.grid;
     run.parameters = method_parameters.used();
     for (const auto& [key, value] : protocol_parameters) run.parameters[key] = value;
     run.protocol_parameters = protocol_parameters;
@@ -229,6 +283,7 @@ void run_benchmark(const RunOptions& options) {
     std::string trained_by;
     double seconds = 0;
     std::map<std::string, double> diagnostics;
+    std::vector<EpochLog> training_log;
   };
   std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
   const std::vector<RunRecord> finished = finished_runs(options);
@@ -259,6 +314,7 @@ void run_benchmark(const RunOptions& options) {
       torch::manual_seed(seeds[s]);
       RunContext context;
       context.recompute_activations = recompute_activations;
+      context.selection = selection;
       context.memory_budget = memory_budget;
       context.seed = seeds[s];
       context.generator = std::mt19937_64(seeds[s]);
@@ -273,6 +329,9 @@ void run_benchmark(const RunOptions& options) {
       // Everything that shapes this run's base session, for the stage cache.
       std::map<std::string, std::string> base_method_values = run_params.used();
       for (const std::string& key : method->session_only_parameters()) base_method_values.erase(key);
+      if (options.selection != "last" && !method->base_ignores_selection()) {
+        base_method_values["selection"] = options.selection;
+      }
       const std::string base_identity =
           stage_caching ? base_stage_identity({code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key,
                                                run_values, seeds[s], threads, evaluation, base_method_values,
@@ -303,7 +362,7 @@ void run_benchmark(const RunOptions& options) {
       } else if (auto found = trained_bases.find({base_key, seeds[s]});
                  !base_key.empty() && found != trained_bases.end() &&
                  method->continue_from_base(*found->second.method, context)) {
-        inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics};
+        inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics, found->second.training_log};
         base_trained_by = found->second.trained_by;
         progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
       } else if (stage_caching) {
@@ -346,8 +405,25 @@ void run_benchmark(const RunOptions& options) {
           progress.note(fmt::format("stage cache not written: {}", error.what()));
         }
       };
-      const auto outcomes =
-          run_sessions(*method, dataset, schedules[s], context, evaluation, inherited_base, checkpoints);
+      SavedEmbeddings saved_embeddings;
+      ScoredEmbeddingSink keep_embeddings;
+      if (save_session) {
+        keep_embeddings = [&](int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels) {
+          if (!save_session(session)) return;
+          const torch::Tensor rows = embeddings.to(torch::kFloat).contiguous();
+          FloatArray array({rows.size(0), rows.size(1)});
+          std::copy(rows.data_ptr<float>(), rows.data_ptr<float>() + rows.numel(), array.values.begin());
+          saved_embeddings.embeddings[session] = std::move(array);
+          saved_embeddings.labels[session] = std::vector<std::int32_t>(labels.begin(), labels.end());
+        };
+      }
+      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, evaluation, inherited_base,
+                                         checkpoints, keep_embeddings);
+      if (save_session) {
+        saved_embeddings.write(fs::path(options.out) / "embeddings" /
+                                   fs::path(run_record_file_name(record)).replace_extension(".h5"),
+                               schedules[s].plan.base_classes);
+      }
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);
 
@@ -358,7 +434,7 @@ void run_benchmark(const RunOptions& options) {
       for (const auto& outcome : outcomes) {
         record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
                                    outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max,
-                                   outcome.diagnostics});
+                                   outcome.diagnostics, outcome.training_log});
       }
       record.total_seconds = seconds_before + run_clock.seconds();
       record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), base_peak_bytes);
@@ -375,15 +451,14 @@ void run_benchmark(const RunOptions& options) {
       records.push_back(std::move(record));
       if (!base_key.empty()) {
         trained_bases[{base_key, seeds[s]}] = {std::move(method), base_trained_by.empty() ? method_names[m] : base_trained_by,
-                                               outcomes.front().train_seconds, outcomes.front().diagnostics};
+                                               outcomes.front().train_seconds, outcomes.front().diagnostics,
+                                               outcomes.front().training_log};
       }
     }
   }
-  const std::string markdown = write_reports(options.out, records);
-  fmt::print("{}", markdown);
-  fmt::print("Results: {0}/summary.csv, {0}/results.tex, costs in {0}/costs.csv and {0}/costs.tex, one JSON per run in "
-             "{0}/results/\n",
-             options.out);
+  return write_reports(options.out, records) +
+         fmt::format("Results: {0}/summary.csv, {0}/sessions.csv, {0}/results.tex, costs in {0}/costs.csv and "
+                     "{0}/costs.tex, one JSON per run in {0}/results/\n", options.out);
 }
 
 }  // namespace fscil

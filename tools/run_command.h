@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -20,14 +21,23 @@ struct RunOptions {
   std::string split_mode = "recording";
   std::string class_order = "natural";
   std::string evaluate_on = "test";  // test | validation: the split every session is scored on
+  // last | validation | test-oracle: how epochs are chosen where a reference code chooses them
+  // (methods/method.h EpochSelection); test-oracle reproduces their habit of choosing on test.
+  std::string selection = "last";
+  // The sweep cell this command runs (fscil-bench sweep): recorded in every result.
+  std::map<std::string, std::string> grid;
+  // --save-embeddings: "" (none), "last", "all" or session numbers "0,9": the scored test
+  // embeddings of those sessions go to OUT/embeddings/RUN.h5 (sessions: the saved session numbers;
+  // session_S_embeddings N x D, session_S_labels; base_classes).
+  std::string save_embeddings;
   std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
   std::vector<std::string> assignments;  // --set key=value
   bool quiet = false;
 };
 
 // The main job: every method x seed through the protocol, one result file per run written as
-// soon as it finishes, then summary.csv, results.tex and a Markdown table on stdout.
-void run_benchmark(const RunOptions& options);
+// soon as it finishes, then summary.csv, results.tex and the rest; returns the Markdown tables.
+std::string run_benchmark(const RunOptions& options);
 
 // Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.
 int configure_threads(int requested);

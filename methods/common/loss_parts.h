@@ -27,6 +27,12 @@ class LossPartMeans {
     diagnostics[stage + "_ce_mean"] = classification_ / steps_;
     if (has_side_) diagnostics[stage + "_side_loss_mean"] = side_ / steps_;
   }
+  // `ce` and, with a side loss, `side_loss`: an epoch's terms in the training log.
+  void record_terms(std::map<std::string, double>& values) const {
+    if (steps_ == 0) return;
+    values["ce"] = classification_ / steps_;
+    if (has_side_) values["side_loss"] = side_ / steps_;
+  }
 
  private:
   double classification_ = 0, side_ = 0;

@@ -32,7 +32,8 @@ void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSched
 }
 
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
-                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase) {
+                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
+                    const std::function<void(int)>& after_epoch) {
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
   const std::int64_t samples = data.features.count();
   std::vector<std::int64_t> order(samples);
@@ -55,7 +56,9 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
       ++batches;
     }
     last_loss = batches > 0 ? loss_sum / batches : 0.0;
-    if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, last_loss);
+    context.log_epoch(phase, epoch + 1, schedule.epochs,
+                      {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
+    if (after_epoch) after_epoch(epoch + 1);
   }
   return last_loss;
 }

@@ -32,10 +32,12 @@ void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSched
 using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;
 
 // Epochs of shuffled mini-batches over `data` with the schedule's optimiser and step decay,
-// minimising `batch_loss` over `parameters`. Modules must already be in the wanted mode.
+// minimising `batch_loss` over `parameters`. Modules must already be in the wanted mode. Each
+// epoch is logged (RunContext::log_epoch), then `after_epoch` is called with its 1-based number.
 // Returns the mean loss of the last epoch.
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
-                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase);
+                    const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
+                    const std::function<void(int)>& after_epoch = {});
 
 // Cross-entropy training of encoder + cosine classifier on the classes [0, classes) of `data`.
 // Returns the mean loss of the last epoch.

@@ -36,6 +36,11 @@ std::vector<torch::Tensor> CopFscilMethod::network_parameters() {
   return parameters;
 }
 
+std::vector<torch::nn::Module*> CopFscilMethod::extra_trained_modules() {
+  if (!components_.pcqa) return {};
+  return {adapter_.get()};
+}
+
 torch::Tensor CopFscilMethod::encode(const torch::Tensor& features, const InputNormHook& mix,
                                      const InputNormHook& probe) {
   if (cop_settings_.cpi.space == ProbeSpace::raw) return encoder_->forward(probe ? probe(features) : features, mix);

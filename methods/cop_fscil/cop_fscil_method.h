@@ -39,6 +39,7 @@ class CopFscilMethod : public PitsScMethod {
  protected:
   void build_network(RunContext& context) override;
   std::vector<torch::Tensor> network_parameters() override;
+  std::vector<torch::nn::Module*> extra_trained_modules() override;
   TrainingEmbedding training_embedding(const torch::Tensor& features, const InputNormHook& mix,
                                        const torch::Tensor& probe_rows, RunContext& context) override;
   torch::Tensor pretraining_probe_rows(std::int64_t batch, RunContext& context) override;

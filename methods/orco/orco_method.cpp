@@ -60,7 +60,10 @@ void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
   objective.perturbed_targets = targets_.index_select(0, free_rows);
   objective.perturbed_labels = free_rows + context.total_classes;
   objective.novel_from_class = base_classes_;
-  train_projector(views, base.labels, settings_.base, objective, {}, context, "projector");
+  // Phase 2 keeps its last epoch: the paper-era reference scores every epoch on the base test set
+  // but never restores the best (Network.py L1147-1148, L1260-1270 at 6608340b82).
+  train_projector(views, base.labels, settings_.base, objective, {}, settings_.session_stop, context, "projector",
+                  "projector");
   phase_two_projector_ = ParameterSnapshot(*projector_);
   memory_ = ReplayMemory();
   memory_.keep_base_exemplars(base, base_classes_, settings_.exemplars_per_base_class, settings_.exemplar_source,
@@ -143,8 +146,8 @@ torch::Tensor OrcoMethod::unassigned_targets() const {
 
 void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor& labels,
                                  const ProjectorSchedule& schedule, const ProjectorObjective& objective,
-                                 const std::function<double()>& score, RunContext& context,
-                                 const std::string& phase) {
+                                 const std::function<double()>& score, const SessionStop& stop,
+                                 RunContext& context, const std::string& phase, const std::string& kept) {
   const torch::Tensor assigned = seen_targets();
   const torch::Tensor assigned_labels = torch::arange(assigned.size(0), torch::kLong);
   const torch::Tensor unassigned = unassigned_targets();
@@ -154,7 +157,6 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
                                                             .weight_decay(schedule.weight_decay));
   const std::int64_t samples = views.size(0);
   std::vector<std::int64_t> order(static_cast<std::size_t>(samples));
-  const SessionStop& stop = settings_.session_stop;
   std::optional<ParameterSnapshot> best;
   double best_score = -1;
   int epochs_trained = 0, checks_since_best = 0;
@@ -193,24 +195,27 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
       loss_sum += loss.item<double>();
       ++batches;
     }
-    if (context.progress != nullptr) context.progress->epoch(phase, epoch + 1, schedule.epochs, loss_sum / batches);
+    context.log_epoch(phase, epoch + 1, schedule.epochs, {{"loss", loss_sum / batches}, {"lr", rate}});
     epochs_trained = epoch + 1;
-    if (!score || (epochs_trained % stop.check_every != 0 && epochs_trained != schedule.epochs)) continue;
+    const bool check = (epochs_trained - stop.first_check) % stop.check_every == 0 ||
+                       (stop.check_last && epochs_trained == schedule.epochs);
+    if (!score || !check) continue;
     const double value = score();
+    context.training_log.back().values["selection_score"] = value;
     if (value > best_score) {
       best_score = value;
       best = ParameterSnapshot(*projector_);
-      context.diagnostics["session_kept_epoch"] = epochs_trained;
+      context.diagnostics[kept + "_kept_epoch"] = epochs_trained;
       checks_since_best = 0;
     } else if (++checks_since_best >= stop.patience) {
       break;
     }
   }
   if (!score) return;
-  context.diagnostics["session_epochs_trained"] = epochs_trained;
+  context.diagnostics[kept + "_epochs_trained"] = epochs_trained;
   if (best) {
     best->restore_into(*projector_);
-    context.diagnostics["session_stop_score"] = best_score;
+    context.diagnostics[kept + "_stop_score"] = best_score;
   }
 }
 
@@ -218,6 +223,15 @@ double OrcoMethod::accuracy_of(const torch::Tensor& encodings, const torch::Tens
   torch::NoGradGuard no_grad;
   const torch::Tensor predicted = project(encodings).matmul(seen_targets().t()).argmax(1);
   return 100.0 * predicted.eq(labels).to(torch::kDouble).mean().item<double>();
+}
+
+double OrcoMethod::harmonic_mean_of(const torch::Tensor& encodings, const torch::Tensor& labels) {
+  const torch::Tensor is_base = labels < base_classes_;
+  const double base = accuracy_of(encodings.index({is_base}), labels.index({is_base}));
+  const torch::Tensor is_novel = is_base.logical_not();
+  if (is_novel.sum().item<std::int64_t>() == 0) return base;
+  const double novel = accuracy_of(encodings.index({is_novel}), labels.index({is_novel}));
+  return base + novel > 0 ? 2 * base * novel / (base + novel) : 0.0;
 }
 
 void OrcoMethod::learn_session(const SessionData& support, RunContext& context) {
@@ -243,8 +257,18 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
   objective.novel_ce_weight = settings_.novel_ce_weight;
   objective.orthogonality_from_class = settings_.session_orthogonality_novel_only ? base_classes_ : 0;
 
+  // The paper-era reference keeps the projector of the best test-set harmonic mean, checked after
+  // epochs 1, 6, 11, ... and stopping after 16 checks without a better one (Network.py L1630-1683,
+  // train.py L109/L183/L230 at 6608340b82): what --selection test-oracle does. Otherwise
+  // orco_session_stop's rule, on base validation and the session's shots.
   std::function<double()> score;
-  if (settings_.session_stop.on_validation) {
+  SessionStop stop = settings_.session_stop;
+  if (context.selection == EpochSelection::test_oracle) {
+    const torch::Tensor test = embed_in_batches(encoder_, context.oracle_test->features);
+    const torch::Tensor test_labels = context.oracle_test->labels;
+    score = [this, test, test_labels] { return harmonic_mean_of(test, test_labels); };
+    stop = SessionStop{true, 5, 16, 1, false};
+  } else if (settings_.session_stop.on_validation || context.selection == EpochSelection::validation) {
     if (context.validation == nullptr || context.validation->labels.size(0) == 0) {
       throw MethodError("orco_session_stop=validation needs a non-empty base validation split; use "
                         "orco_session_stop=last");
@@ -259,7 +283,7 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
     };
   }
   train_projector(encoded_views(memory_.features(), context), memory_.labels(), settings_.session, objective, score,
-                  context, fmt::format("session {}", support.session));
+                  stop, context, fmt::format("session {}", support.session), "session");
 }
 
 std::set<std::string> OrcoMethod::session_only_parameters() const {

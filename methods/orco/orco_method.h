@@ -25,6 +25,7 @@ class OrcoMethod : public Method {
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
   std::set<std::string> session_only_parameters() const override;
+  bool base_ignores_selection() const override { return true; }  // phase 2 keeps its last epoch
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;
   ReplayFootprint replay_footprint() const override { return {memory_.samples(), memory_.bytes()}; }
@@ -56,9 +57,16 @@ class OrcoMethod : public Method {
   torch::Tensor seen_targets() const;
   torch::Tensor unassigned_targets() const;
   // `score` (may be empty: keep the last epoch) rates the projector for `session_stop`.
+  // With a `score`, the projector of the best-scoring check (every stop.check_every epochs and at
+  // the last) is kept, training stops after stop.patience checks without a better one, and the
+  // diagnostics `<kept>_kept_epoch`, `<kept>_epochs_trained` and `<kept>_stop_score` say so.
   void train_projector(const torch::Tensor& views, const torch::Tensor& labels, const ProjectorSchedule& schedule,
                        const ProjectorObjective& objective, const std::function<double()>& score,
-                       RunContext& context, const std::string& phase);
+                       const SessionStop& stop, RunContext& context, const std::string& phase,
+                       const std::string& kept);
+  // Accuracy (%) of frozen-encoder embeddings `encodings` of `data`'s base classes and of the rest
+  // against the seen targets, and their harmonic mean (the reference's session score).
+  double harmonic_mean_of(const torch::Tensor& encodings, const torch::Tensor& labels);
   // Accuracy (%) of encoder embeddings against the seen classes' targets.
   double accuracy_of(const torch::Tensor& encodings, const torch::Tensor& labels);
 

@@ -32,7 +32,11 @@ struct ProjectorSchedule {
 struct SessionStop {
   bool on_validation = true;  // orco_session_stop=validation | last
   int check_every = 5;
-  int patience = 3;
+  int patience = 3;  // checks without a better score before training stops
+  // Checks come after epochs first_check + k * check_every (1-based; 0: at check_every, 2 x, ...)
+  // and, with check_last, after the last epoch.
+  int first_check = 0;
+  bool check_last = true;
 };
 
 enum class ExemplarSource { recordings, first };

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <optional>
 
+#include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/module_state.h"
@@ -33,26 +34,31 @@ TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features
 
 void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
   build_network(context);
-  pretrain(base, context);
+  // Under a selection, one best epoch over both stages: the reference keeps a pseudo-incremental
+  // epoch only when it scores at least the best pretraining epoch (one max_acc slot,
+  // models/pitsc/fscil_trainer.py L91-97, base.py L33 at b4d313ff).
+  BestEpoch best(selected_modules());
+  pretrain(base, best, context);
   reset_base_rows(base, context);
   report_validation(context, "pretraining");
-  train_pseudo_incremental(base, context);
+  train_pseudo_incremental(base, best, context);
   after_pseudo_incremental(base, context);
   reset_base_rows(base, context);
   report_validation(context, "pseudo_incremental");
 }
 
-void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
+void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext& context) {
   encoder_->train();
   classifier_->train();
   std::vector<torch::Tensor> parameters = network_parameters();
   parameters.push_back(classifier_->mu);
   const std::int64_t classes = context.base_classes;
   std::bernoulli_distribution use_cutmix(settings_.p_cutmix);
-  LossPartMeans means;
+  LossPartMeans means, epoch_means;
   const auto parts_of = [&](const TrainingEmbedding& embedded, torch::Tensor classification) {
     const LossParts parts{std::move(classification), embedded.side_loss};
     means.add(parts);
+    epoch_means.add(parts);
     return parts.total();
   };
   const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
@@ -75,11 +81,35 @@ void PitsScMethod::pretrain(const SessionData& base, RunContext& context) {
     return parts_of(embedded, plan.kept_fraction * F::cross_entropy(logits, labels) +
                                   (1 - plan.kept_fraction) * F::cross_entropy(logits, partner_labels));
   };
-  train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain");
+  train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain", [&](int epoch) {
+    epoch_means.record_terms(context.training_log.back().values);
+    epoch_means = LossPartMeans();
+    consider_epoch(best, "pretraining", epoch, context);
+  });
+  best.restore(context, "pretraining");
   means.record(context.diagnostics, "pretraining");
 }
 
-void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext& context) {
+std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {
+  std::vector<torch::nn::Module*> modules = {encoder_.get(), classifier_.get()};
+  for (auto* module : extra_trained_modules()) modules.push_back(module);
+  return modules;
+}
+
+void PitsScMethod::consider_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context) {
+  const SessionData* data = context.base_selection_data();
+  if (data == nullptr) return;
+  double score = 0;
+  {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor logits = classifier_->forward(embed_rows(data->features), context.base_classes, false);
+    score = 100.0 * (logits.argmax(1) == data->labels).to(torch::kDouble).mean().item<double>();
+  }
+  context.training_log.back().values["selection_score"] = score;
+  best.consider(stage, epoch, score);
+}
+
+void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context) {
   if (settings_.pit.epochs == 0) return;
   const PitEpisodeSampler sampler(base, context.base_classes, context.total_classes, settings_);
   std::vector<torch::Tensor> parameters = network_parameters();
@@ -94,6 +124,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
   for (int epoch = 0; epoch < settings_.pit.epochs; ++epoch) {
     set_epoch_learning_rate(optimizer, settings_.pit, epoch);
     double loss_sum = 0;
+    LossPartMeans epoch_means;
     for (int e = 0; e < settings_.pit_episodes; ++e) {
       PitEpisode episode = sampler.draw(context.generator, context.front_end);
       perturb_episode(episode, context);
@@ -106,12 +137,16 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, RunContext&
       loss.backward();
       optimizer.step();
       means.add(parts);
+      epoch_means.add(parts);
       loss_sum += loss.item<double>();
     }
-    if (context.progress != nullptr) {
-      context.progress->epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, loss_sum / settings_.pit_episodes);
-    }
+    std::map<std::string, double> values = {{"loss", loss_sum / settings_.pit_episodes},
+                                            {"lr", optimizer.param_groups().front().options().get_lr()}};
+    epoch_means.record_terms(values);
+    context.log_epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, std::move(values));
+    consider_epoch(best, "pseudo_incremental", epoch + 1, context);
   }
+  best.restore(context, "pseudo_incremental");
   means.record(context.diagnostics, "pseudo_incremental");
 }
 

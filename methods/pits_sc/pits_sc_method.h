@@ -9,6 +9,8 @@
 
 namespace fscil {
 
+class BestEpoch;
+
 // PITS-SC (Li et al., TASLP 2025) as released in vinceasvp/PITEL-CUSC: pretraining with
 // CutMix, pseudo-incremental training on raw-signal mixtures with a stochastic classifier,
 // then per session new rows = mean support embedding and a fine-tuning of mu and sigma with
@@ -35,6 +37,9 @@ class PitsScMethod : public Method {
   // Builds the modules for this protocol; cop-fscil adds its adapter.
   virtual void build_network(RunContext& context);
   virtual std::vector<torch::Tensor> network_parameters() { return encoder_->parameters(); }
+  // Trained modules besides the encoder and the classifier (cop-fscil's adapter): a stage's kept
+  // epoch restores them too.
+  virtual std::vector<torch::nn::Module*> extra_trained_modules() { return {}; }
   // A batch through the network in training mode, `mix` (may be empty: PITS-SC's CutMix) applied
   // right after the input norm, then `probe_rows` (undefined = none) replaced by probes inside
   // the network; cop-fscil adds CPI, PCQA and L_PIC.
@@ -62,8 +67,13 @@ class PitsScMethod : public Method {
   std::int64_t seen_classes_ = 0;
 
  private:
-  void pretrain(const SessionData& base, RunContext& context);
-  void train_pseudo_incremental(const SessionData& base, RunContext& context);
+  void pretrain(const SessionData& base, BestEpoch& best, RunContext& context);
+  void train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context);
+  // The modules a stage's kept epoch (RunContext::selection) is a state of.
+  std::vector<torch::nn::Module*> selected_modules();
+  // Scores the epoch just logged on RunContext::base_selection_data (top-1 over the base classes
+  // with the classifier as trained) and keeps it when best; nothing when the last epoch is kept.
+  void consider_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context);
   // Base rows of mu = base class-mean embeddings; also stores them as the old-class means.
   void reset_base_rows(const SessionData& base, RunContext& context);
 

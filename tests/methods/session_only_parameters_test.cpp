@@ -21,12 +21,18 @@ struct BaseOutcome {
   torch::Tensor torch_state;
 };
 
-BaseOutcome train_base(const std::string& method_name, const Values& values) {
+BaseOutcome train_base(const std::string& method_name, const Values& values,
+                       EpochSelection selection = EpochSelection::last) {
   ParameterSet params;
   for (const auto& [key, value] : values) params.set(key, value);
   torch::manual_seed(5);
   const std::unique_ptr<Method> method = create_method(method_name, params);
   RunContext context = tiny_context(5);
+  // Scored data for either selection: the base itself stands in for validation and test.
+  const SessionData scored = tiny_base();
+  context.validation = &scored;
+  context.oracle_test = &scored;
+  context.selection = selection;
   method->train_base(tiny_base(), context);
   return {method->save_state(), context.generator, torch_random_state()};
 }
@@ -97,6 +103,24 @@ INSTANTIATE_TEST_SUITE_P(
       std::replace(name.begin(), name.end(), '-', '_');
       return name;
     });
+
+// Every method whose base_ignores_selection() says so ends its base in the same state under every
+// selection (the stage cache shares it).
+TEST(BaseIgnoresSelection, HoldsForEveryMethodThatSaysSo) {
+  const std::map<std::string, Values> short_bases = {
+      {"orco",
+       {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"orco_base_epochs", "2"}, {"orco_views", "2"},
+        {"orco_target_steps", "50"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}}}};
+  for (const auto& entry : method_registry()) {
+    ParameterSet probe;
+    if (!create_method(entry.name, probe)->base_ignores_selection()) continue;
+    ASSERT_EQ(short_bases.count(entry.name), 1u) << entry.name << " needs a short base here";
+    const BaseOutcome last = train_base(entry.name, short_bases.at(entry.name));
+    for (const EpochSelection selection : {EpochSelection::validation, EpochSelection::test_oracle}) {
+      expect_same_base(last, train_base(entry.name, short_bases.at(entry.name), selection), entry.name);
+    }
+  }
+}
 
 }  // namespace
 }  // namespace fscil

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "datasets/stable_hash.h"
@@ -64,6 +65,91 @@ TEST(RunCheckpoint, NanInfiniteAndSubnormalDiagnosticsReadBack) {
   EXPECT_EQ(diagnostics.at("side_loss_mean"), -std::numeric_limits<double>::infinity());
   EXPECT_EQ(diagnostics.at("tiny"), std::numeric_limits<double>::denorm_min());
   EXPECT_EQ(loaded.generator, saved.generator);
+}
+
+// Each finished session's training log comes back as it was: stages with spaces (the lines are
+// tab-separated), values exactly (%.17g), a diverged loss as NaN, and epochs in order.
+TEST(RunCheckpoint, TrainingLogsOfFinishedSessionsReadBack) {
+  TemporaryDirectory directory;
+  const fs::path path = directory.path() / "run.ckpt";
+  RunCheckpoint saved = one_session();
+  SessionOutcome second = saved.outcomes[0];
+  second.session = 1;
+  saved.outcomes.push_back(second);
+  saved.outcomes[0].training_log = {{"pretrain", 1, {{"loss", 2.302585092994046}, {"lr", 0.1}}},
+                                    {"pretrain", 2, {{"loss", 1.0 / 3}, {"lr", 0.05}, {"seconds", 12.5}}},
+                                    {"pseudo-incremental", 1, {{"loss", 0.75}, {"selection_score", 61.25}}}};
+  saved.outcomes[1].training_log = {{"session 1", 1, {{"loss", std::numeric_limits<double>::quiet_NaN()}}},
+                                    {"session 1", 2, {{"loss", 4.9e-324}, {"lr", 1e-4}}}};
+  save_checkpoint(path, saved);
+  const RunCheckpoint loaded = load_checkpoint(path, "run");
+  ASSERT_EQ(loaded.outcomes.size(), 2u);
+  for (std::size_t s = 0; s < 2; ++s) {
+    const auto& expected = saved.outcomes[s].training_log;
+    const auto& actual = loaded.outcomes[s].training_log;
+    ASSERT_EQ(actual.size(), expected.size()) << "session " << s;
+    for (std::size_t e = 0; e < expected.size(); ++e) {
+      EXPECT_EQ(actual[e].stage, expected[e].stage) << s << " " << e;
+      EXPECT_EQ(actual[e].epoch, expected[e].epoch) << s << " " << e;
+      ASSERT_EQ(actual[e].values.size(), expected[e].values.size()) << s << " " << e;
+      for (const auto& [name, value] : expected[e].values) {
+        if (std::isnan(value)) {
+          EXPECT_TRUE(std::isnan(actual[e].values.at(name))) << name;
+        } else {
+          EXPECT_EQ(actual[e].values.at(name), value) << name;
+        }
+      }
+    }
+  }
+}
+
+// A checkpoint body as save_checkpoint writes it for one finished session, with `training_log` as
+// the log's text, or without the log as checkpoints and cached bases written before it were.
+std::string body_with_log(const std::optional<std::string>& training_log) {
+  torch::serialize::OutputArchive archive;
+  archive.write("identity", text_tensor("run"));
+  archive.write("outcomes", torch::zeros({1, 12}, torch::kDouble));
+  archive.write("diagnostics", text_tensor(""));
+  if (training_log) archive.write("training_log", text_tensor(*training_log));
+  archive.write("elapsed_seconds", torch::tensor(1.5, torch::kDouble));
+  std::ostringstream generator;
+  generator << std::mt19937_64(3);
+  archive.write("generator", text_tensor(generator.str()));
+  archive.write("torch_random_state", torch::arange(4, torch::kUInt8));
+  torch::serialize::OutputArchive method;
+  method.write("w", torch::ones({2, 3}));
+  archive.write("method", method);
+  std::ostringstream body;
+  archive.save_to(body);
+  return body.str();
+}
+
+TEST(RunCheckpoint, ACheckpointFromBeforeTrainingLogsReadsWithNone) {
+  TemporaryDirectory directory;
+  const fs::path path = directory.path() / "run.ckpt";
+  write_with_header(path, body_with_log(std::nullopt));
+  const RunCheckpoint loaded = load_checkpoint(path, "run");
+  ASSERT_EQ(loaded.outcomes.size(), 1u);
+  EXPECT_TRUE(loaded.outcomes[0].training_log.empty());
+  EXPECT_EQ(loaded.elapsed_seconds, 1.5);
+  write_with_header(path, body_with_log("0\tsession 0\t3\tloss\t0.5\n"));
+  ASSERT_EQ(load_checkpoint(path, "run").outcomes[0].training_log.size(), 1u);
+  EXPECT_EQ(load_checkpoint(path, "run").outcomes[0].training_log[0].stage, "session 0");
+}
+
+TEST(RunCheckpoint, ATrainingLogLineOfNoFinishedSessionOrWithoutItsFiveFieldsIsRefused) {
+  TemporaryDirectory directory;
+  const fs::path path = directory.path() / "run.ckpt";
+  for (const char* line : {"1\tpretrain\t1\tloss\t0.5\n",  // one session finished: session 0 only
+                           "-1\tpretrain\t1\tloss\t0.5\n", "\tpretrain\t1\tloss\t0.5\n",
+                           "0\tpretrain\t1\tloss\n", "0\tpretrain\t1\tloss\t0.5\textra\n",
+                           "0\tpretrain\tone\tloss\t0.5\n", "0\tpretrain\t\tloss\t0.5\n",
+                           "0\tpretrain\t1\tloss\t0.5x\n", "0 pretrain 1 loss 0.5\n"}) {
+    write_with_header(path, body_with_log(line));
+    EXPECT_MENTIONS(load_error(path), "run.ckpt: corrupt checkpoint (a training log line is not session, stage, "
+                                      "epoch, name and value of a finished session)")
+        << line;
+  }
 }
 
 TEST(RunCheckpoint, AHeaderDeclaringMoreThanTheFileIsCorruptNotAnAllocation) {

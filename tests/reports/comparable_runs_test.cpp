@@ -83,6 +83,41 @@ TEST(ComparableRuns, FilesWrittenBeforeProtocolParametersCompareOnTheirOtherFiel
   EXPECT_NE(refusal({run_of("prototype", 1), old_orco}), "");
 }
 
+// A run of a sweep over `key`: its cell and the folder fscil-bench sweep gives the cell.
+RunRecord in_cell(RunRecord record, const std::string& key, const std::string& value) {
+  record.grid = {{key, value}};
+  record.source = "cells/" + key + "=" + value + "/" + record.source;
+  return record;
+}
+
+TEST(ComparableRuns, RunsOfDifferentSweepCellsAreDifferentRowsAndNeverConflict) {
+  // A sweep over shot: each cell's runs have the shot of their cell, and every cell has seed 1.
+  const RunRecord five = in_cell(run_of("prototype", 1, "5"), "shot", "5");
+  const RunRecord three = in_cell(run_of("prototype", 1, "3"), "shot", "3");
+  EXPECT_EQ(incomparability(five, three), "");
+  EXPECT_NE(incomparability(run_of("prototype", 1, "5"), run_of("prototype", 1, "3")), "") << "the same runs unswept";
+  EXPECT_EQ(refusal({five, in_cell(run_of("prototype", 2, "5"), "shot", "5"), three,
+                     in_cell(run_of("orco", 1, "3"), "shot", "3")}),
+            "");
+}
+
+TEST(ComparableRuns, WithinOneSweepCellRunsAreCheckedAgainstThatCellsFirstRun) {
+  const RunRecord five = in_cell(run_of("prototype", 1, "5"), "shot", "5");
+  const RunRecord three = in_cell(run_of("prototype", 1, "3"), "shot", "3");
+  EXPECT_EQ(refusal({five, three, in_cell(run_of("prototype", 1, "3"), "shot", "3")}),
+            "cells/shot=3/prototype-1.json and cells/shot=3/prototype-1.json: runs that cannot share a table "
+            "(prototype seed 1 twice); keep them in separate folders");
+  // Differences inside the second cell, which the first cell's run cannot reveal.
+  RunRecord smoke = in_cell(run_of("orco", 2, "3"), "shot", "3");
+  smoke.profile = "smoke";
+  EXPECT_EQ(refusal({five, three, smoke}),
+            "cells/shot=3/prototype-1.json and cells/shot=3/orco-2.json: runs that cannot share a table (profile fast "
+            "against smoke); keep them in separate folders");
+  RunRecord longer = in_cell(run_of("prototype", 2, "3"), "shot", "3");
+  longer.parameters["pretrain_epochs"] = "100";
+  EXPECT_NE(refusal({five, three, longer}).find("(pretrain_epochs=8 against pretrain_epochs=100)"), std::string::npos);
+}
+
 TEST(ComparableRuns, LoadingAMixedFolderIsRefusedAndOutOfRangeAccuraciesToo) {
   TemporaryDirectory out;
   save_run_record(out.path(), run_of("prototype", 1));

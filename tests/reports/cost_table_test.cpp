@@ -56,5 +56,44 @@ TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
             std::string::npos);
 }
 
+RunRecord in_cell(RunRecord record, const std::string& probes) {
+  record.grid = {{"pspc_probes", probes}};
+  return record;
+}
+
+TEST(CostTable, SweepCellsAreRowsOfTheirOwnNamedInEveryRendering) {
+  const std::vector<RunRecord> records = {in_cell(timed_run("orco", 100, 2, 900, 400), "5"),
+                                          in_cell(timed_run("orco", 90, 6, 800, 400), "10"),
+                                          timed_run("prototype", 50, 0, 700, 0),
+                                          in_cell(timed_run("orco", 120, 4, 950, 400), "5")};
+  const auto rows = summarize_costs(records);
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].cell, "pspc_probes=5");
+  EXPECT_EQ(rows[0].runs, 2u);
+  EXPECT_DOUBLE_EQ(rows[0].update_seconds, 3);  // (2 + 2 + 4 + 4) / 4 sessions; the 6 s of the other cell stay out
+  EXPECT_DOUBLE_EQ(rows[0].peak_resident_mib, 950);
+  EXPECT_EQ(rows[1].cell, "pspc_probes=10");
+  EXPECT_EQ(rows[1].runs, 1u);
+  EXPECT_DOUBLE_EQ(rows[1].update_seconds, 6);
+  EXPECT_EQ(rows[2].cell, "");
+  EXPECT_EQ(render_cost_csv(rows),
+            "method,dataset,cell,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,peak_rss_mib,"
+            "replay_samples,replay_mib\n"
+            "orco,simtex,pspc_probes=5,2,54.4,2.500,0.500,1.100,110.0,3.00,950,400,100.00\n"
+            "orco,simtex,pspc_probes=10,1,54.4,2.500,0.500,0.900,90.0,6.00,800,400,100.00\n"
+            "prototype,simtex,,1,54.4,2.500,0.500,0.500,50.0,0.00,700,0,0.00\n");
+  const std::string markdown = render_cost_markdown(rows);
+  EXPECT_NE(markdown.find("\n| orco [pspc_probes=10] | simtex | 54.4 | 2.500 | 0.500 | 0.900 | 90.0 | 6.00 |"),
+            std::string::npos)
+      << markdown;
+  EXPECT_NE(markdown.find("\n| prototype | simtex | 54.4 |"), std::string::npos) << markdown;
+  const std::string latex = render_cost_latex(rows);
+  EXPECT_NE(latex.find("\norco [pspc\\_probes=5] & simtex & 54.4 & 2.500 & 0.500 & 1.100 & 110.0 & 3.00 & 950 & 400 & "
+                       "100.00 \\\\\n"),
+            std::string::npos)
+      << latex;
+  EXPECT_NE(latex.find("\nprototype & simtex & 54.4 &"), std::string::npos) << latex;
+}
+
 }  // namespace
 }  // namespace fscil

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 
 #include "reports/report_error.h"
 #include "reports/run_record.h"
@@ -117,6 +118,123 @@ TEST(RunRecord, BadFilesNameThemselves) {
   EXPECT_THROW(load_run_records(directory.path() / "missing"), ReportError);
 }
 
+// `record` written and read back, or the refusal naming the file.
+std::string refusal_of(const RunRecord& record) {
+  try {
+    run_record_from_json_text(to_json_text(record), "odd.json");
+  } catch (const ReportError& error) {
+    return error.what();
+  }
+  return "accepted";
+}
+
+TEST(RunRecord, SelectionSweepCellAndTrainingLogRoundTripThroughJson) {
+  RunRecord original = record_of("orco", 1, {90, 80});
+  original.selection = "test-oracle";
+  original.grid = {{"shot", "5"}, {"pic_weight", "0.1"}};
+  original.sessions[0].training_log = {
+      {"pretrain", 1, {{"loss", 2.25}, {"lr", 0.1}}},
+      {"pretrain", 2, {{"loss", std::nan("")}, {"lr", 0.05}, {"selection_score", 61.5}}}};  // diverged
+  original.sessions[1].training_log = {{"session 1", 1, {{"loss", 0.125}, {"seconds", 3.5}}}};
+  const RunRecord copy = run_record_from_json_text(to_json_text(original), "memory");
+  EXPECT_EQ(copy.selection, "test-oracle");
+  EXPECT_TRUE(selected_on_test(copy));
+  EXPECT_EQ(copy.grid, original.grid);
+  ASSERT_EQ(copy.sessions[0].training_log.size(), 2u);
+  ASSERT_EQ(copy.sessions[1].training_log.size(), 1u);
+  const EpochLog& first = copy.sessions[0].training_log[0];
+  EXPECT_EQ(first.stage, "pretrain");
+  EXPECT_EQ(first.epoch, 1);
+  EXPECT_EQ(first.values, original.sessions[0].training_log[0].values);
+  const EpochLog& diverged = copy.sessions[0].training_log[1];
+  EXPECT_EQ(diverged.epoch, 2);
+  ASSERT_EQ(diverged.values.size(), 3u);
+  EXPECT_TRUE(std::isnan(diverged.values.at("loss")));
+  EXPECT_EQ(diverged.values.at("lr"), 0.05);
+  EXPECT_EQ(diverged.values.at("selection_score"), 61.5);
+  EXPECT_EQ(copy.sessions[1].training_log[0].stage, "session 1");
+  EXPECT_EQ(copy.sessions[1].training_log[0].epoch, 1);
+  EXPECT_EQ(copy.sessions[1].training_log[0].values, original.sessions[1].training_log[0].values);
+
+  for (const char* honest : {"last", "validation"}) {
+    RunRecord chosen = original;
+    chosen.selection = honest;
+    const RunRecord chosen_copy = run_record_from_json_text(to_json_text(chosen), "memory");
+    EXPECT_EQ(chosen_copy.selection, honest);
+    EXPECT_FALSE(selected_on_test(chosen_copy)) << honest;
+  }
+}
+
+// Result files written before sweeps, epoch selection and training logs read as what they were:
+// the last epoch, outside any sweep cell, nothing logged.
+TEST(RunRecord, OlderFilesWereChosenOnTheLastEpochOutsideASweepAndLoggedNothing) {
+  RunRecord swept = record_of("orco", 1, {90, 80});
+  swept.selection = "validation";
+  swept.grid = {{"shot", "5"}};
+  swept.sessions[0].training_log = {{"pretrain", 1, {{"loss", 1.5}}}};
+  std::string text = to_json_text(swept);
+  for (const std::string key : {"\"selection\": ", "\"grid\": ", "\"training_log\": "}) {
+    std::size_t renamed = 0;
+    for (auto at = text.find(key); at != std::string::npos; at = text.find(key, at)) {
+      text.replace(at, 1, "\"unknown_");  // a key the reader does not look for
+      ++renamed;
+    }
+    EXPECT_EQ(renamed, key == "\"training_log\": " ? 2u : 1u) << key;
+  }
+  const RunRecord old = run_record_from_json_text(text, "old.json");
+  EXPECT_EQ(old.selection, "last");
+  EXPECT_FALSE(selected_on_test(old));
+  EXPECT_TRUE(old.grid.empty());
+  EXPECT_TRUE(old.sessions[0].training_log.empty());
+  EXPECT_EQ(old.session_accuracies(), (std::vector<double>{90, 80}));
+}
+
+TEST(RunRecord, RefusesOtherSelectionsAndCellOrStageTextNoFolderOrCsvFieldCanHold) {
+  RunRecord record = record_of("orco", 1, {90, 80});
+  record.selection = "best";
+  EXPECT_EQ(refusal_of(record), "odd.json: selection 'best', expected last, validation or test-oracle");
+  for (const char* selection : {"", "Last", "oracle", "test"}) {
+    record.selection = selection;
+    EXPECT_NE(refusal_of(record).find("odd.json: selection '"), std::string::npos) << selection;
+  }
+  record.selection = "last";
+
+  record.grid = {{"shot", "1,2"}};
+  EXPECT_EQ(refusal_of(record), "odd.json: grid shot=1,2, expected letters, digits, '_', '.' or '-'");
+  for (const auto& [key, value] : {std::pair{"shot", ""}, {"", "5"}, {"pic weight", "1"}, {"cell", "../up"},
+                                   {"shot", "5+way=3"}, {"lr", "1e-4\n"}}) {
+    record.grid = {{key, value}};
+    EXPECT_NE(refusal_of(record).find("odd.json: grid "), std::string::npos) << key << "=" << value;
+  }
+  record.grid = {{"pic_weight", "1e-4"}, {"cpi_reference", "farthest"}, {"Shot.Count", "-5"}};
+  EXPECT_EQ(refusal_of(record), "accepted");
+  record.grid.clear();
+
+  record.sessions[1].training_log = {{"pre,train", 1, {{"loss", 1}}}};
+  EXPECT_EQ(refusal_of(record),
+            "odd.json: training log stage 'pre,train', expected text without commas, quotes or line breaks");
+  for (const char* stage : {"", "say \"when\"", "tab\tbed", "two\nlines", "carriage\rreturn"}) {
+    record.sessions[1].training_log = {{stage, 1, {{"loss", 1}}}};
+    EXPECT_NE(refusal_of(record).find("odd.json: training log stage '"), std::string::npos) << stage;
+  }
+  record.sessions[1].training_log = {{"session 1 (projector)", 1, {{"loss", 1}}}};
+  EXPECT_EQ(refusal_of(record), "accepted");
+  // Value names become CSV headers of the training log as they are.
+  record.sessions[1].training_log = {{"pretrain", 1, {{"loss,ce", 1}}}};
+  EXPECT_EQ(refusal_of(record),
+            "odd.json: training log value 'loss,ce', expected a name without commas, quotes or line breaks");
+}
+
+TEST(RunRecord, CellNamesSortTheKeysAndJoinThemWithPlus) {
+  EXPECT_EQ(grid_cell_name({{"shot", "5"}, {"pic_weight", "0.1"}}), "pic_weight=0.1+shot=5");
+  EXPECT_EQ(grid_cell_name({{"pspc_probes", "50"}}), "pspc_probes=50");
+  EXPECT_EQ(grid_cell_name({}), "");
+  for (const char* name : {"last", "validation", "test-oracle"}) EXPECT_TRUE(is_selection_name(name)) << name;
+  for (const char* name : {"", "Last", "best", "test", "oracle", "test_oracle"}) {
+    EXPECT_FALSE(is_selection_name(name)) << name;
+  }
+}
+
 TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
   const SummaryTable table = summarize_runs(
       {record_of("prototype", 1, {90, 80, 70}), record_of("prototype", 2, {80, 80, 60}), record_of("pits-sc", 1, {95, 90, 85})});
@@ -140,26 +258,13 @@ TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
 TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header, "method,dataset,split,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,acc_1_std,"
-                    "AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95");
+  EXPECT_EQ(header, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
+                    "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95");
   EXPECT_NE(csv.find(",63.5310,63.5310\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
-  EXPECT_NE(csv.find("prototype,simtex,test,1 2,80.0000,10.0000,"), std::string::npos);
+  EXPECT_NE(csv.find("prototype,simtex,test,last,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
-  EXPECT_EQ(single, "method,dataset,split,seeds,AA,PD,ADR,acc_0,acc_1\nprototype,simtex,test,1,85.0000,10.0000,11.1111,"
-                    "90.0000,80.0000\n");
-}
-
-TEST(SummaryTable, SessionsCsvHoldsBaseNovelAndHarmonicMeanPerSession) {
-  RunRecord first = record_of("orco", 1, {90, 80}), second = record_of("orco", 2, {80, 70});
-  first.sessions[1].accuracy.novel = 40;
-  first.sessions[1].accuracy.harmonic = 53.125;
-  second.sessions[1].accuracy.novel = 60;
-  second.sessions[1].accuracy.harmonic = 64.5;
-  EXPECT_EQ(render_sessions_csv(summarize_runs({first, second})),
-            "method,dataset,split,seeds,session,accuracy,accuracy_std,base,base_std,novel,novel_std,harmonic_mean,"
-            "harmonic_mean_std\n"
-            "orco,simtex,test,1 2,0,85.0000,7.0711,86.0000,7.0711,,,,\n"
-            "orco,simtex,test,1 2,1,75.0000,7.0711,76.0000,7.0711,50.0000,14.1421,58.8125,8.0433\n");
+  EXPECT_EQ(single, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1\n"
+                    "prototype,simtex,test,last,1,85.0000,10.0000,11.1111,90.0000,80.0000\n");
 }
 
 TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
@@ -170,7 +275,7 @@ TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
   other_seed.evaluated_on = "validation";
   const SummaryTable table = summarize_runs({on_validation, other_seed});
   EXPECT_EQ(table.evaluated_on, "validation");
-  EXPECT_NE(render_csv(table).find("prototype,simtex,validation,2 3,"), std::string::npos);
+  EXPECT_NE(render_csv(table).find("prototype,simtex,validation,last,2 3,"), std::string::npos);
   EXPECT_NE(render_markdown(table).find("### simtex, validation split"), std::string::npos);
   EXPECT_NE(render_latex(table).find("Comparison on simtex, validation split"), std::string::npos);
   // A result file says what it was scored on, and one that says nothing was scored on test.
@@ -203,6 +308,99 @@ TEST(SummaryTable, LatexEscapesNamesAndResultFilesRefuseNamesNoTableCanHold) {
     EXPECT_STREQ(error.what(),
                  "odd.json: method 'proto\\ntype & 100% best', expected letters, digits, '_', '.', '+', '/' or '-'");
   }
+}
+
+RunRecord in_cell(RunRecord record, std::map<std::string, std::string> grid, const std::string& selection = "last") {
+  record.grid = std::move(grid);
+  record.selection = selection;
+  return record;
+}
+
+TEST(SummaryTable, SweepCellsAndSelectionsAreRowsOfTheirOwn) {
+  const SummaryTable table = summarize_runs({in_cell(record_of("cop-fscil", 1, {90, 70}), {{"pic_weight", "0.1"}}),
+                                             in_cell(record_of("cop-fscil", 1, {90, 60}), {{"pic_weight", "1"}}),
+                                             in_cell(record_of("cop-fscil", 2, {80, 70}), {{"pic_weight", "0.1"}}),
+                                             in_cell(record_of("orco", 1, {95, 75}), {{"shot", "5"}}, "test-oracle"),
+                                             in_cell(record_of("orco", 1, {95, 65}), {{"shot", "5"}}),
+                                             in_cell(record_of("orco", 1, {95, 70}), {{"shot", "5"}}, "validation")});
+  ASSERT_EQ(table.rows.size(), 5u);
+  const SummaryRow& weight_01 = table.rows[0];
+  EXPECT_EQ(weight_01.grid, (std::map<std::string, std::string>{{"pic_weight", "0.1"}}));
+  EXPECT_EQ(weight_01.seeds, (std::vector<std::uint64_t>{1, 2}));
+  EXPECT_DOUBLE_EQ(weight_01.session_accuracy[0].mean, 85.0);  // (90 + 80) / 2
+  EXPECT_DOUBLE_EQ(weight_01.average_accuracy.mean, 77.5);     // (80 + 75) / 2
+  EXPECT_EQ(table.rows[1].seeds, (std::vector<std::uint64_t>{1}));
+  EXPECT_DOUBLE_EQ(table.rows[1].average_accuracy.mean, 75.0);
+  EXPECT_EQ(table.rows[2].selection, "test-oracle");
+  EXPECT_DOUBLE_EQ(table.rows[2].average_accuracy.mean, 85.0);
+  EXPECT_EQ(table.rows[3].selection, "last");
+  EXPECT_DOUBLE_EQ(table.rows[3].average_accuracy.mean, 80.0);
+  EXPECT_EQ(table.rows[4].selection, "validation");
+  EXPECT_EQ(table.grid_keys(), (std::vector<std::string>{"pic_weight", "shot"}));
+  EXPECT_EQ(row_label(table.rows[2]), "orco (selected on test (inflated))");
+  EXPECT_EQ(row_label(table.rows[3]), "orco");
+  EXPECT_EQ(row_label(table.rows[4]), "orco (selected on validation)");
+  EXPECT_TRUE(summarize_runs({record_of("orco", 1, {90, 80})}).grid_keys().empty());
+  // One seed twice within one cell and selection is still two files of one run.
+  EXPECT_THROW(summarize_runs({in_cell(record_of("orco", 1, {95, 75}), {{"shot", "5"}}),
+                               in_cell(record_of("orco", 1, {95, 65}), {{"shot", "5"}})}),
+               ReportError);
+}
+
+// Grid keys are columns in order of first appearance (here shot before pic_weight), empty where a
+// row's cell has no such key; the oracle row is labelled in Markdown and LaTeX.
+// A sweep over selection (the selection-bias reproduction) has one selection column, not two.
+TEST(SummaryTable, ASweepOverSelectionKeepsOneSelectionColumn) {
+  const SummaryTable table =
+      summarize_runs({in_cell(record_of("orco", 1, {95, 75}), {{"selection", "test-oracle"}}, "test-oracle"),
+                      in_cell(record_of("orco", 1, {95, 65}), {{"selection", "last"}})});
+  EXPECT_TRUE(table.grid_keys().empty());
+  const std::string csv = render_csv(table);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1");
+  EXPECT_NE(csv.find("\norco,simtex,test,test-oracle,1,85.0000,"), std::string::npos) << csv;
+}
+
+TEST(SummaryTable, EveryRenderingHasAColumnPerGridKeyAndTheSelection) {
+  const SummaryTable table = summarize_runs({in_cell(record_of("orco", 1, {95, 75}), {{"shot", "5"}}, "test-oracle"),
+                                             in_cell(record_of("orco", 1, {95, 65}), {{"shot", "5"}}),
+                                             in_cell(record_of("cop-fscil", 1, {90, 70}), {{"pic_weight", "0.1"}}),
+                                             in_cell(record_of("cop-fscil", 1, {90, 60}), {{"pic_weight", "1"}})});
+  // ADR of one step is 100 x drop / first: 20/95 = 21.0526%, 30/95 = 31.5789%, 20/90, 30/90.
+  EXPECT_EQ(render_csv(table),
+            "method,dataset,shot,pic_weight,split,selection,seeds,AA,PD,ADR,acc_0,acc_1\n"
+            "orco,simtex,5,,test,test-oracle,1,85.0000,20.0000,21.0526,95.0000,75.0000\n"
+            "orco,simtex,5,,test,last,1,80.0000,30.0000,31.5789,95.0000,65.0000\n"
+            "cop-fscil,simtex,,0.1,test,last,1,80.0000,20.0000,22.2222,90.0000,70.0000\n"
+            "cop-fscil,simtex,,1,test,last,1,75.0000,30.0000,33.3333,90.0000,60.0000\n");
+
+  const std::string markdown = render_markdown(table);
+  EXPECT_NE(markdown.find("| shot | pic_weight | method | 0 | 1 | PD | AA | ADR |\n"
+                          "|---|---|---|---:|---:|---:|---:|---:|\n"
+                          "| 5 |  | orco (selected on test (inflated)) | "),
+            std::string::npos)
+      << markdown;
+  // Rows chosen on test are never best, though orco's is higher here: the best are among the others.
+  EXPECT_NE(markdown.find("\n| 5 |  | orco (selected on test (inflated)) | 95.00 | 75.00 | 20.00 | 85.00 | 21.05 |\n"),
+            std::string::npos)
+      << markdown;
+  EXPECT_NE(markdown.find("\n|  | 0.1 | cop-fscil | 90.00 | **70.00** | **20.00** | **80.00** | **22.22** |\n"),
+            std::string::npos)
+      << markdown;
+  EXPECT_NE(markdown.find("\n| 5 |  | orco | **95.00** | 65.00 | 30.00 | **80.00** | 31.58 |\n"), std::string::npos)
+      << markdown;
+
+  const std::string latex = render_latex(table);
+  EXPECT_NE(latex.find("\\begin{tabular}{lllccccc}\n\\toprule\n\\multirow{2}{*}{shot} & \\multirow{2}{*}{pic\\_weight} & "
+                       "\\multirow{2}{*}{Method} & \\multicolumn{2}{c}{"),
+            std::string::npos)
+      << latex;
+  // The session numbers sit under the session columns 4 and 5, after two grid columns and the method.
+  EXPECT_NE(latex.find("\\cmidrule(lr){4-5}\n    && & 0 & 1 & & & \\\\\n"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\n5 &  & orco (selected on test (inflated)) & "), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\n & 0.1 & cop-fscil & 90.00 & \\textbf{70.00} & \\textbf{20.00} & \\textbf{80.00} & "
+                       "\\textbf{22.22} \\\\\n"),
+            std::string::npos)
+      << latex;
 }
 
 }  // namespace

@@ -1,0 +1,74 @@
+#include "reports/axis_ticks.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fscil {
+
+namespace {
+
+// 1, 2, 5 or 10 times a power of ten near `value` (Heckbert, "Nice numbers for graph labels").
+double nice_number(double value, bool round_to_nearest) {
+  const double exponent = std::floor(std::log10(value));
+  const double power = std::pow(10.0, exponent);
+  const double fraction = value / power;
+  double nice = 10;
+  if (round_to_nearest) {
+    nice = fraction < 1.5 ? 1 : fraction < 3 ? 2 : fraction < 7 ? 5 : 10;
+  } else {
+    nice = fraction <= 1 ? 1 : fraction <= 2 ? 2 : fraction <= 5 ? 5 : 10;
+  }
+  return nice * power;
+}
+
+int decimals_of(double step) { return std::max(0, static_cast<int>(-std::floor(std::log10(step) + 1e-9))); }
+
+// Ticks at multiples of `step` from `first` to `last` (both multiples), without floating-point dust.
+std::vector<double> multiples(double first, double last, double step) {
+  std::vector<double> values;
+  // No ticks rather than a thousand, or multiples past 2^53 steps that are no longer whole steps.
+  if (!(std::abs(first / step) < 9e15 && std::abs(last / step) < 9e15) || last - first > 1000 * step) return values;
+  const long long from = std::llround(first / step), to = std::llround(last / step);
+  for (long long k = from; k <= to; ++k) values.push_back(static_cast<double>(k) * step);
+  return values;
+}
+
+}  // namespace
+
+AxisTicks nice_ticks(double low, double high, int target_count) {
+  if (!std::isfinite(low) || !std::isfinite(high)) low = 0, high = 1;
+  if (high < low) std::swap(low, high);
+  if (high - low <= std::abs(high) * 1e-12) {
+    const double pad = low == 0 ? 1 : std::abs(low) * 0.1;
+    low -= pad;
+    high += pad;
+  }
+  AxisTicks ticks;
+  const double range = nice_number(high - low, false);
+  ticks.step = nice_number(range / std::max(1, target_count - 1), true);
+  ticks.low = std::floor(low / ticks.step) * ticks.step;
+  ticks.high = std::ceil(high / ticks.step) * ticks.step;
+  ticks.values = multiples(ticks.low, ticks.high, ticks.step);
+  ticks.decimals = decimals_of(ticks.step);
+  return ticks;
+}
+
+AxisTicks ticks_within(double low, double high, double step) {
+  AxisTicks ticks;
+  ticks.low = low;
+  ticks.high = high;
+  ticks.step = step;
+  ticks.values = multiples(std::ceil(low / step - 1e-9) * step, std::floor(high / step + 1e-9) * step, step);
+  ticks.decimals = decimals_of(step);
+  return ticks;
+}
+
+std::string tick_label(double value, int decimals) {
+  std::string label = fmt::format("{:.{}f}", value, decimals);
+  if (label.find_first_not_of("-0.") == std::string::npos && label[0] == '-') label.erase(0, 1);
+  return label;
+}
+
+}  // namespace fscil

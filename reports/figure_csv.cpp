@@ -1,0 +1,37 @@
+#include "reports/figure_csv.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace fscil {
+
+namespace {
+
+std::string csv_field(const std::string& text) {
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+std::string number(double value) { return std::isfinite(value) ? fmt::format("{:.8g}", value) : ""; }
+
+}  // namespace
+
+std::string render_figure_csv(const Figure& figure) {
+  require_valid_figure(figure);
+  std::string out = "series,x,y\n";
+  for (const auto& series : figure.series) {
+    for (std::size_t i = 0; i < series.x.size(); ++i) {
+      const double x = series.x[i];
+      const std::string x_text = figure.x_categories.empty() || !std::isfinite(x)
+                                     ? number(x)
+                                     : csv_field(figure.x_categories[static_cast<std::size_t>(x)]);
+      out += fmt::format("{},{},{}\n", csv_field(series.label), x_text, number(series.y[i]));
+    }
+  }
+  return out;
+}
+
+}  // namespace fscil

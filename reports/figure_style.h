@@ -1,0 +1,30 @@
+#pragma once
+#include <array>
+#include <cstddef>
+
+namespace fscil {
+
+// Okabe and Ito's colour-blind-safe palette without its yellow (too pale on white paper), then
+// Tol's wine and olive and a grey: ten colours, as hexadecimal RGB.
+inline constexpr std::array<const char*, 10> figure_palette = {"0072B2", "D55E00", "009E73", "CC79A7", "E69F00",
+                                                                "56B4E9", "000000", "882255", "999933", "7F7F7F"};
+inline constexpr int figure_dash_kinds = 5;    // solid, dashed, dotted, dash-dot, densely dashed
+inline constexpr int figure_marker_kinds = 8;  // disc, square, triangle, diamond, inverted triangle, ring, hollow square, cross
+inline constexpr int figure_hatch_kinds = 7;   // solid, /, \, horizontal, vertical, grid, dots
+
+// How series `index` of a figure looks, the same in every renderer, so a method keeps its colour
+// from the report page to the paper. Dash, marker and hatching cycle at other lengths than the
+// colours, so series past the tenth still differ, and all of them differ in grey.
+struct SeriesStyle {
+  const char* colour;
+  int dash;
+  int marker;
+  int hatch;
+};
+
+inline SeriesStyle series_style(std::size_t index) {
+  return {figure_palette[index % figure_palette.size()], static_cast<int>(index % figure_dash_kinds),
+          static_cast<int>(index % figure_marker_kinds), static_cast<int>(index % figure_hatch_kinds)};
+}
+
+}  // namespace fscil

@@ -1,0 +1,244 @@
+#include "reports/run_figures.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include "metrics/statistics.h"
+#include "reports/report_error.h"
+
+namespace fscil {
+
+namespace {
+
+constexpr const char* kInflated = "selected on test (inflated)";
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The method, and the sweep cell when it has one, as a legend entry.
+std::string series_label(const SummaryRow& row) {
+  const std::string cell = grid_cell_name(row.grid);
+  return cell.empty() ? row_label(row) : fmt::format("{} [{}]", row_label(row), cell);
+}
+
+// Lower-case letters, digits, '_' and '-' of `text`, the rest as '_': a figure's file stem.
+std::string stem(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const bool keep = (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    out += keep ? c : (c >= 'A' && c <= 'Z') ? static_cast<char>(c - 'A' + 'a') : '_';
+  }
+  return out;
+}
+
+double metric_of(const SummaryRow& row, const std::string& metric) {
+  if (metric == "AA") return row.average_accuracy.mean;
+  if (metric == "PD") return row.performance_drop.mean;
+  if (metric == "ADR") return row.average_drop_rate.mean;
+  if (metric == "Acc0") return row.session_accuracy.front().mean;
+  throw ReportError(fmt::format("no metric '{}' (expected AA, PD, ADR or Acc0)", metric));
+}
+
+void note_selection(Figure& figure, const std::string& selection) {
+  if (selection == "test-oracle") figure.note = kInflated;
+}
+
+// Sessions as categories: whole-number ticks.
+std::vector<std::string> session_categories(std::size_t sessions) {
+  std::vector<std::string> names;
+  for (std::size_t s = 0; s < sessions; ++s) names.push_back(std::to_string(s));
+  return names;
+}
+
+// Points of each line in the order of x, so a line runs left to right.
+void sort_points(Figure& figure) {
+  for (auto& series : figure.series) {
+    std::vector<std::size_t> order(series.x.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return series.x[a] < series.x[b]; });
+    FigureSeries sorted{series.label, {}, {}};
+    for (std::size_t i : order) sorted.x.push_back(series.x[i]), sorted.y.push_back(series.y[i]);
+    series = std::move(sorted);
+  }
+}
+
+}  // namespace
+
+Figure session_accuracy_figure(const SummaryTable& table, const std::string& dataset, SessionMetric metric) {
+  static const std::map<SessionMetric, std::pair<const char*, const char*>> kNames = {
+      {SessionMetric::all, {"all", "accuracy on all seen classes (%)"}},
+      {SessionMetric::base, {"base", "accuracy on the base classes (%)"}},
+      {SessionMetric::novel, {"novel", "accuracy on the novel classes (%)"}},
+      {SessionMetric::harmonic, {"harmonic", "harmonic mean of base and novel accuracy (%)"}}};
+  const auto& [suffix, y_label] = kNames.at(metric);
+  Figure figure;
+  figure.name = stem(fmt::format("sessions_{}_{}", dataset, suffix));
+  figure.title = fmt::format("Accuracy per session on {} ({}, {} split)", dataset, suffix, table.evaluated_on);
+  figure.x_label = "session";
+  figure.y_label = y_label;
+  for (const auto& row : table.rows) {
+    if (row.dataset != dataset) continue;
+    const auto& values = metric == SessionMetric::all        ? row.session_accuracy
+                         : metric == SessionMetric::base     ? row.session_base_accuracy
+                         : metric == SessionMetric::novel    ? row.session_novel_accuracy
+                                                             : row.session_harmonic_mean;
+    FigureSeries series{series_label(row), {}, {}};
+    for (std::size_t s = 0; s < values.size(); ++s) {
+      series.x.push_back(static_cast<double>(s));
+      // Session 0 has no novel classes.
+      const bool undefined = s == 0 && (metric == SessionMetric::novel || metric == SessionMetric::harmonic);
+      series.y.push_back(undefined ? kNaN : values[s].mean);
+    }
+    figure.x_categories = session_categories(std::max(figure.x_categories.size(), values.size()));
+    figure.series.push_back(std::move(series));
+    note_selection(figure, row.selection);
+  }
+  return figure;
+}
+
+Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::string& dataset) {
+  Figure figure;
+  figure.name = stem("context_ratio_" + dataset);
+  figure.title = fmt::format("Context-to-class dispersion R per session on {}", dataset);
+  figure.x_label = "session";
+  figure.y_label = "R (mean over classes and seeds)";
+  // (label) -> per session the values of its seeds
+  std::vector<std::pair<std::string, std::vector<std::vector<double>>>> lines;
+  for (const auto& record : records) {
+    if (record.dataset != dataset) continue;
+    SummaryRow row;
+    row.method = record.method;
+    row.grid = record.grid;
+    row.selection = record.selection;
+    const std::string label = series_label(row);
+    auto line = std::find_if(lines.begin(), lines.end(), [&](const auto& entry) { return entry.first == label; });
+    if (line == lines.end()) line = lines.insert(lines.end(), {label, {}});
+    for (const auto& session : record.sessions) {
+      if (std::isnan(session.context_ratio_mean)) continue;
+      if (line->second.size() <= static_cast<std::size_t>(session.session)) line->second.resize(session.session + 1);
+      line->second[session.session].push_back(session.context_ratio_mean);
+    }
+    note_selection(figure, record.selection);
+  }
+  for (const auto& [label, sessions] : lines) {
+    if (sessions.empty()) continue;
+    FigureSeries series{label, {}, {}};
+    for (std::size_t s = 0; s < sessions.size(); ++s) {
+      series.x.push_back(static_cast<double>(s));
+      series.y.push_back(sessions[s].empty() ? kNaN : mean_of(sessions[s]));
+    }
+    figure.x_categories = session_categories(std::max(figure.x_categories.size(), sessions.size()));
+    figure.series.push_back(std::move(series));
+  }
+  return figure;
+}
+
+std::vector<Figure> efficiency_figures(const std::vector<CostRow>& costs, const std::string& dataset) {
+  struct Panel {
+    const char* suffix;
+    const char* y_label;
+    double (*value)(const CostRow&);
+  };
+  const Panel panels[] = {{"flops", "FLOPs per sample (M)", [](const CostRow& r) { return r.mega_flops; }},
+                          {"params", "parameters NP (M)", [](const CostRow& r) { return r.parameters_millions; }},
+                          {"it", "inference time IT (ms per sample)",
+                           [](const CostRow& r) { return r.inference_ms_per_sample; }}};
+  std::vector<Figure> figures;
+  for (const auto& panel : panels) {
+    Figure figure;
+    figure.name = stem(fmt::format("efficiency_{}_{}", dataset, panel.suffix));
+    figure.title = fmt::format("Computational efficiency on {}: {}", dataset, panel.y_label);
+    figure.kind = FigureKind::bars;
+    figure.x_label = "method";
+    figure.y_label = panel.y_label;
+    FigureSeries series{"", {}, {}};
+    for (const auto& row : costs) {
+      if (row.dataset != dataset) continue;
+      series.x.push_back(static_cast<double>(figure.x_categories.size()));
+      series.y.push_back(panel.value(row));
+      figure.x_categories.push_back(row.cell.empty() ? row.method : row.method + " [" + row.cell + "]");
+    }
+    figure.series.push_back(std::move(series));
+    figures.push_back(std::move(figure));
+  }
+  return figures;
+}
+
+Figure ablation_figure(const SummaryTable& table, const std::string& dataset, const std::string& name) {
+  Figure figure;
+  figure.name = stem(name);
+  figure.title = fmt::format("Ablation on {} ({} split)", dataset, table.evaluated_on);
+  figure.kind = FigureKind::bars;
+  figure.x_label = "variant";
+  figure.y_label = "%";
+  FigureSeries aa{"AA", {}, {}}, pd{"PD", {}, {}};
+  for (const auto& row : table.rows) {
+    if (row.dataset != dataset) continue;
+    const double x = static_cast<double>(figure.x_categories.size());
+    figure.x_categories.push_back(series_label(row));
+    aa.x.push_back(x);
+    aa.y.push_back(row.average_accuracy.mean);
+    pd.x.push_back(x);
+    pd.y.push_back(row.performance_drop.mean);
+    note_selection(figure, row.selection);
+  }
+  figure.series = {aa, pd};
+  return figure;
+}
+
+Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset, const std::string& key,
+                          const std::vector<std::string>& values, const std::string& metric, const std::string& name,
+                          const std::string& title) {
+  Figure figure;
+  figure.name = stem(name);
+  figure.title = title;
+  figure.x_label = key;
+  figure.y_label = metric == "Acc0" ? "session 0 accuracy (%)" : metric + (metric == "ADR" ? "" : " (%)");
+  figure.x_categories = values;
+  for (const auto& row : table.rows) {
+    const auto value = row.grid.find(key);
+    if (row.dataset != dataset || value == row.grid.end()) continue;
+    const auto position = std::find(values.begin(), values.end(), value->second);
+    if (position == values.end()) continue;
+    // One line per method and value of the other keys.
+    SummaryRow line_key = row;
+    line_key.grid.erase(key);
+    const std::string label = series_label(line_key);
+    auto series = std::find_if(figure.series.begin(), figure.series.end(),
+                               [&](const FigureSeries& s) { return s.label == label; });
+    if (series == figure.series.end()) series = figure.series.insert(figure.series.end(), {label, {}, {}});
+    series->x.push_back(static_cast<double>(position - values.begin()));
+    series->y.push_back(metric_of(row, metric));
+    note_selection(figure, row.selection);
+  }
+  sort_points(figure);
+  return figure;
+}
+
+Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::string& dataset, const std::string& key,
+                               const std::vector<std::string>& values, const std::string& name,
+                               const std::string& title) {
+  Figure figure;
+  figure.name = stem(name);
+  figure.title = title;
+  figure.x_label = key;
+  figure.y_label = "time per incremental session (s)";
+  figure.x_categories = values;
+  for (const auto& row : costs) {
+    if (row.dataset != dataset) continue;
+    for (std::size_t v = 0; v < values.size(); ++v) {
+      if (row.cell != key + "=" + values[v]) continue;
+      auto series = std::find_if(figure.series.begin(), figure.series.end(),
+                                 [&](const FigureSeries& s) { return s.label == row.method; });
+      if (series == figure.series.end()) series = figure.series.insert(figure.series.end(), {row.method, {}, {}});
+      series->x.push_back(static_cast<double>(v));
+      series->y.push_back(row.update_seconds);
+    }
+  }
+  sort_points(figure);
+  return figure;
+}
+
+}  // namespace fscil

@@ -1,0 +1,21 @@
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+// One --grid of a sweep: a --set key (or shot, way, selection) and the values it takes.
+struct GridAxis {
+  std::string key;
+  std::vector<std::string> values;
+};
+
+// "key=v1,v2,..." per --grid; throws CliError naming the text on a missing '=', an empty or
+// repeated value, a key given twice, or characters other than letters, digits, '_', '.', '-'.
+std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts);
+
+// Every combination of one value per axis (the first axis varies slowest), each as key -> value.
+std::vector<std::map<std::string, std::string>> grid_cells(const std::vector<GridAxis>& axes);
+
+}  // namespace fscil
