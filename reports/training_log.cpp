@@ -31,9 +31,9 @@ std::string render_training_log_csv(const RunRecord& record) {
   return out;
 }
 
-std::filesystem::path training_log_path(const RunRecord& record) {
+std::filesystem::path training_log_path(const RunRecord& record, bool several_cells) {
   std::filesystem::path path = "logs";
-  if (!record.grid.empty()) path /= grid_cell_name(record.grid);
+  if (several_cells) path /= grid_cell_name(record.grid);
   return path / std::filesystem::path(run_record_file_name(record)).replace_extension(".csv");
 }
 

@@ -1,5 +1,7 @@
 #include "tools/report_writer.h"
 
+#include <algorithm>
+
 #include "reports/atomic_file.h"
 #include "reports/cost_table.h"
 #include "reports/figure_writer.h"
@@ -17,8 +19,10 @@ std::string write_reports(const std::filesystem::path& out, const std::vector<Ru
   write_file_atomically(out / "summary.csv", render_csv(table));
   write_file_atomically(out / "sessions.csv", render_tidy_sessions_csv(records));
   write_file_atomically(out / "results.tex", render_latex(table));
+  const bool several_cells = std::any_of(records.begin(), records.end(),
+                                        [&](const RunRecord& record) { return record.grid != records.front().grid; });
   for (const auto& record : records) {
-    write_file_atomically(out / training_log_path(record), render_training_log_csv(record));
+    write_file_atomically(out / training_log_path(record, several_cells), render_training_log_csv(record));
   }
   const std::vector<CostRow> costs = summarize_costs(records);
   write_file_atomically(out / "costs.csv", render_cost_csv(costs));

@@ -31,9 +31,11 @@ TEST(TrainingLog, ARunThatLoggedNothingIsTheHeaderAlone) {
 
 TEST(TrainingLog, LogsGoBelowLogsAndTheirSweepCellsFolder) {
   RunRecord record = run_with_accuracies("cop-fscil/cpi+pspc", "simtex", 3, {90});
-  EXPECT_EQ(training_log_path(record), std::filesystem::path("logs/cop-fscil_cpi_pspc__simtex__seed3.csv"));
+  EXPECT_EQ(training_log_path(record, false), std::filesystem::path("logs/cop-fscil_cpi_pspc__simtex__seed3.csv"));
   record.grid = {{"shot", "5"}, {"pic_weight", "0.1"}};
-  EXPECT_EQ(training_log_path(record),
+  // A cell's own folder holds its runs alone; a sweep's folder holds every cell's.
+  EXPECT_EQ(training_log_path(record, false), std::filesystem::path("logs/cop-fscil_cpi_pspc__simtex__seed3.csv"));
+  EXPECT_EQ(training_log_path(record, true),
             std::filesystem::path("logs/pic_weight=0.1+shot=5/cop-fscil_cpi_pspc__simtex__seed3.csv"));
 }
 
