@@ -17,9 +17,12 @@ namespace {
 constexpr const char* kInflated = "selected on test (inflated)";
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The method, and the sweep cell when it has one, as a legend entry.
+// The method, and the sweep cell when it has one, as a legend entry (row_label names the
+// selection already).
 std::string series_label(const SummaryRow& row) {
-  const std::string cell = grid_cell_name(row.grid);
+  std::map<std::string, std::string> rest = row.grid;
+  rest.erase("selection");
+  const std::string cell = grid_cell_name(rest);
   return cell.empty() ? row_label(row) : fmt::format("{} [{}]", row_label(row), cell);
 }
 

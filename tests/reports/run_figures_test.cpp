@@ -169,6 +169,17 @@ TEST(RunFigures, GridFigureDrawsRowsChosenOnTestAsTheirOwnLineAndSaysSo) {
   expect_values(figure.series[1].y, {89}, "oracle AA");
 }
 
+// In a sweep over selection the legend names the selection once, by the row's label.
+TEST(RunFigures, LegendsOfASelectionSweepNameTheSelectionOnce) {
+  const SummaryTable table = summarize_runs(
+      {in_cell(run_with_accuracies("orco", "simtex", 1, {98, 74}), {{"selection", "last"}}),
+       in_cell(run_with_accuracies("orco", "simtex", 1, {99, 79}), {{"selection", "test-oracle"}}, "test-oracle")});
+  const Figure figure = session_accuracy_figure(table, "simtex", SessionMetric::all);
+  ASSERT_EQ(figure.series.size(), 2u);
+  EXPECT_EQ(figure.series[0].label, "orco");
+  EXPECT_EQ(figure.series[1].label, "orco (selected on test (inflated))");
+}
+
 TEST(RunFigures, UpdateTimeFigureTakesEachCellsCostRow) {
   const auto cost = [](const std::string& method, const std::string& dataset, const std::string& cell, double seconds) {
     CostRow row{method, dataset, cell};
