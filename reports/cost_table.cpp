@@ -47,10 +47,11 @@ bool any_cell(const std::vector<CostRow>& rows) {
   return std::any_of(rows.begin(), rows.end(), [](const CostRow& row) { return !row.cell.empty(); });
 }
 
-// The method, and its sweep cell when it has one.
-std::string label_of(const CostRow& row) { return row.cell.empty() ? row.method : row.method + " [" + row.cell + "]"; }
-
 }  // namespace
+
+std::string cost_row_label(const CostRow& row) {
+  return row.cell.empty() ? row.method : row.method + " [" + row.cell + "]";
+}
 
 std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
   std::vector<CostRow> rows;
@@ -107,7 +108,7 @@ std::string render_cost_latex(const std::vector<CostRow>& rows) {
   for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
   out += " \\\\\n\\midrule\n";
   for (const auto& row : rows) {
-    out += fmt::format("{} & {}", latex_text(label_of(row)), latex_text(row.dataset));
+    out += fmt::format("{} & {}", latex_text(cost_row_label(row)), latex_text(row.dataset));
     for (const auto& column : columns()) out += " & " + column.text(row);
     out += " \\\\\n";
   }
@@ -121,7 +122,7 @@ std::string render_cost_markdown(const std::vector<CostRow>& rows) {
   for (std::size_t c = 0; c < columns().size(); ++c) out += "---:|";
   out += "\n";
   for (const auto& row : rows) {
-    out += fmt::format("| {} | {} |", label_of(row), row.dataset);
+    out += fmt::format("| {} | {} |", cost_row_label(row), row.dataset);
     for (const auto& column : columns()) out += fmt::format(" {} |", column.text(row));
     out += "\n";
   }

@@ -27,6 +27,9 @@ struct CostRow {
   double replay_mib = 0;
 };
 
+// The method, and its sweep cell when it has one: "method [cell]".
+std::string cost_row_label(const CostRow& row);
+
 // Rows in order of first appearance of (method, dataset, sweep cell).
 std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records);
 

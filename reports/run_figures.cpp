@@ -161,7 +161,7 @@ std::vector<Figure> efficiency_figures(const std::vector<CostRow>& costs, const 
       if (row.dataset != dataset) continue;
       series.x.push_back(static_cast<double>(figure.x_categories.size()));
       series.y.push_back(panel.value(row));
-      figure.x_categories.push_back(row.cell.empty() ? row.method : row.method + " [" + row.cell + "]");
+      figure.x_categories.push_back(cost_row_label(row));
     }
     figure.series.push_back(std::move(series));
     figures.push_back(std::move(figure));

@@ -19,6 +19,7 @@
 #include "tools/embedding_figure.h"
 #include "tools/report_writer.h"
 #include "tools/sweep_command.h"
+#include "tools/sweep_grid.h"
 
 namespace fscil {
 
@@ -26,10 +27,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// What a reproduction's writer gets: the results folder, its runs and the dataset.
+// What a reproduction's writer gets: the results folder, its runs, the dataset and the grid it swept.
 struct Results {
   fs::path out;
   std::string dataset;
+  std::vector<GridAxis> axes;
   std::vector<RunRecord> records;
   SummaryTable table;
   std::vector<CostRow> costs;
@@ -70,22 +72,12 @@ Rendered setting_table(const Results& results, const char* name, const char* cap
   return {render_setting_markdown(table), render_setting_csv(table), render_setting_latex(table)};
 }
 
-std::vector<std::string> values_of(const std::string& grid) {
-  std::vector<std::string> values;
-  std::string list = grid.substr(grid.find('=') + 1);
-  for (std::size_t start = 0, comma = 0; comma != std::string::npos; start = comma + 1) {
-    comma = list.find(',', start);
-    values.push_back(list.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-  }
-  return values;
-}
-
-// Figures of a metric against one sweep key, one per metric.
-void write_grid_figures(const Results& results, const std::string& grid, const std::vector<std::string>& metrics,
-                        const std::string& what) {
-  const std::string key = grid.substr(0, grid.find('='));
+// Figures of a metric against the reproduction's (first) sweep key, one per metric.
+void write_grid_figures(const Results& results, const std::vector<std::string>& metrics, const std::string& what) {
+  const GridAxis& axis = results.axes.front();
+  const std::string& key = axis.key;
   for (const auto& metric : metrics) {
-    write_figure(results.out, grid_metric_figure(results.table, results.dataset, key, values_of(grid), metric,
+    write_figure(results.out, grid_metric_figure(results.table, results.dataset, key, axis.values, metric,
                                                  fmt::format("{}_{}_{}", what, results.dataset, metric),
                                                  fmt::format("{} against {} on {}", metric, key, results.dataset)));
   }
@@ -113,7 +105,7 @@ const std::vector<Reproduction>& reproductions() {
        "cop-fscil over pic_weight = 0, 1, 0.1, 0.01, 0.001, 0.0001", "cop-fscil",
        {"pic_weight=0,1,0.1,0.01,0.001,0.0001"}, "",
        [](const Results& results) {
-         write_grid_figures(results, "pic_weight=0,1,0.1,0.01,0.001,0.0001", {"AA", "PD"}, "lambda");
+         write_grid_figures(results, {"AA", "PD"}, "lambda");
          return setting_table(results, "lambda", "Sensitivity analysis of the loss weight lambda for L_PIC",
                               "cop-fscil");
        }},
@@ -134,7 +126,7 @@ const std::vector<Reproduction>& reproductions() {
       {"fewer-shot", "Average Accuracy and Performance Drop with different numbers of shots during incremental sessions",
        "pits-sc and cop-fscil with 1 to 5 shots per novel class", "pits-sc,cop-fscil", {"shot=1,2,3,4,5"}, "",
        [](const Results& results) {
-         write_grid_figures(results, "shot=1,2,3,4,5", {"AA", "PD"}, "fewer_shot");
+         write_grid_figures(results, {"AA", "PD"}, "fewer_shot");
          Rendered both;
          for (const char* method : {"pits-sc", "cop-fscil"}) {
            const Rendered one = setting_table(results, "fewer-shot", "AA and PD with fewer shots", method);
@@ -148,10 +140,10 @@ const std::vector<Reproduction>& reproductions() {
        "cop-fscil over N_ps = 5, 10, 50, 100, 500, 1000 (the base is trained once: N_ps acts in sessions only)",
        "cop-fscil", {"pspc_probes=5,10,50,100,500,1000"}, "",
        [](const Results& results) {
-         const std::string grid = "pspc_probes=5,10,50,100,500,1000";
-         write_grid_figures(results, grid, {"AA"}, "nps");
-         write_figure(results.out, grid_update_time_figure(results.costs, results.dataset, "pspc_probes",
-                                                           values_of(grid), "nps_update_time_" + results.dataset,
+         write_grid_figures(results, {"AA"}, "nps");
+         const GridAxis& probes = results.axes.front();
+         write_figure(results.out, grid_update_time_figure(results.costs, results.dataset, probes.key,
+                                                           probes.values, "nps_update_time_" + results.dataset,
                                                            "Incremental update time against N_ps on " + results.dataset));
          return setting_table(results, "nps", "Incremental update time under different values of N_ps", "cop-fscil",
                               true);
@@ -225,7 +217,7 @@ std::string run_reproduction(const std::string& name, RunOptions options) {
   } else {
     run_sweep(options, found->grid);
   }
-  Results results{options.out, options.dataset,
+  Results results{options.out, options.dataset, found->grid.empty() ? std::vector<GridAxis>() : parse_grid(found->grid),
                   found->grid.empty() ? load_run_records(options.out) : load_sweep_records(options.out, found->grid), {},
                   {}};
   results.table = summarize_runs(results.records);
