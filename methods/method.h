@@ -15,6 +15,7 @@
 #include "metrics/model_cost.h"
 #include "protocols/parameter_set.h"
 #include "protocols/progress_reporter.h"
+#include "protocols/stop_request.h"
 #include "protocols/session_outcome.h"
 
 namespace fscil {
@@ -78,12 +79,13 @@ struct RunContext {
   std::vector<EpochLog> training_log;
   Stopwatch session_clock;  // restarted by the runner when a session begins
 
-  // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, and
-  // shows it as progress.
+  // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, shows
+  // it as progress, and throws StopRequested when a stop was asked (protocols/stop_request.h).
   void log_epoch(const std::string& stage, int epoch, int epochs, std::map<std::string, double> values) {
     values["seconds"] = session_clock.seconds();
     if (progress != nullptr) progress->epoch(stage, epoch, epochs, values["loss"]);
     training_log.push_back({stage, epoch, std::move(values)});
+    stop_if_requested();  // SIGTERM: the last session's checkpoint is what a resumed run continues from
   }
 };
 

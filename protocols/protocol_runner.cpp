@@ -222,6 +222,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     }
     outcomes.push_back(outcome);
     if (checkpoints.after_session) checkpoints.after_session(outcomes);
+    stop_if_requested();
   }
   context.validation = nullptr;
   return outcomes;

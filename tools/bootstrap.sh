@@ -13,6 +13,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev llvm-14  # tests/fuzz: libFuzzer and sanitizer runtimes, llvm-symbolizer
   chromium  # the report page test: index.html and its figures opened in headless Chromium
+  slurm-wlm munge  # the Slurm tests: tools/slurm_local.sh runs a single-node cluster from them
 )
 
 install_missing_packages "${packages[@]}"

@@ -15,6 +15,9 @@
 #include "reports/atomic_file.h"
 #include "reports/context_analysis.h"
 #include "reports/run_record.h"
+#include "protocols/stop_request.h"
+#include "tools/bench_cells.h"
+#include "tools/cell_runner.h"
 #include "tools/cli_range.h"
 #include "tools/logmel_command.h"
 #include "tools/machine_info.h"
@@ -22,6 +25,7 @@
 #include "tools/report_writer.h"
 #include "tools/reproduce_command.h"
 #include "tools/run_command.h"
+#include "tools/slurm_command.h"
 #include "tools/sweep_command.h"
 
 namespace {
@@ -35,8 +39,9 @@ void print_catalogue() {
   for (const auto& profile : fscil::profiles()) fmt::print("  {:<22} {}\n", profile.name, profile.summary);
 }
 
-void rebuild_reports(const std::string& results, const std::string& out, bool paper, const std::string& paper_tables) {
-  const auto records = fscil::load_run_records(results);
+void rebuild_reports(const std::string& results, const std::string& out, const std::string& methods,
+                     const std::vector<std::string>& grid, bool paper, const std::string& paper_tables) {
+  const auto records = fscil::load_command_records(results, methods, grid);
   const std::filesystem::path directory = out.empty() ? results : out;
   fmt::print("{}", fscil::write_reports(directory, records));
   if (paper) {
@@ -44,6 +49,14 @@ void rebuild_reports(const std::string& results, const std::string& out, bool pa
                fscil::write_paper_comparison(directory, records,
                                              paper_tables.empty() ? fscil::default_paper_tables() : std::filesystem::path(paper_tables)));
   }
+}
+
+// What cells and Slurm scripts run: this binary, by the path the kernel knows it by.
+std::string this_executable() {
+  std::error_code error;
+  const auto path = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) throw std::runtime_error(fmt::format("/proc/self/exe: cannot read this program's path ({})", error.message()));
+  return path.string();
 }
 
 void analyze_contexts(const std::string& results, const std::string& out) {
@@ -106,6 +119,10 @@ int main(int argc, char** argv) {
                  "OUT/embeddings/RUN.h5 (for the embedding figure of fscil-bench reproduce embedding)");
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
   app.add_flag("--quiet", run.quiet, "no progress on stderr");
+  app.add_option("--cell", run.cell,
+                 "run only cell K of this command (see: fscil-bench plan): its result files, no tables; continues "
+                 "what --out holds of it")
+      ->check(fscil::within(fscil::ValidRange::at_least(0)));
 
   auto* list = app.add_subcommand("list", "List methods, datasets and profiles, one line each");
 
@@ -117,6 +134,43 @@ int main(int argc, char** argv) {
                     "key=value1,value2,...: a --set key (or shot, way, selection) and its values (repeatable)")
       ->required();
   sweep->fallthrough();  // the run options (--methods, --dataset, --set, ...) belong to the main command
+
+  // plan, slurm and run-cells take a run command's options, and --grid for a sweep's.
+  std::vector<std::string> cells_grid;
+  const auto add_grid = [&](CLI::App* command) {
+    command->add_option("--grid", cells_grid, "key=value1,value2,...: the cells of a sweep (as for sweep; repeatable)");
+    command->fallthrough();
+  };
+  auto* plan = app.add_subcommand(
+      "plan", "List the cells of a run or sweep command, one line each (index, methods, dataset, grid cell, seed, "
+              "cost class): the units --cell K, run-cells and slurm run; methods sharing a base session share a cell");
+  add_grid(plan);
+
+  int jobs = 1;
+  auto* run_cells_command = app.add_subcommand(
+      "run-cells", "Run every cell of a run or sweep command as its own process, --jobs at a time with the threads "
+                   "split between them (logs in OUT/cell-logs/), then the command's tables");
+  add_grid(run_cells_command);
+  run_cells_command->add_option("--jobs", jobs, "cells at a time")
+      ->check(fscil::within(fscil::ValidRange::at_least(1)))
+      ->capture_default_str();
+
+  fscil::SlurmOptions slurm_options;
+  auto* slurm = app.add_subcommand(
+      "slurm", "Write OUT/slurm/array.sbatch (one Slurm array task per cell, SIGTERM-safe, requeued on preemption) and "
+               "OUT/slurm/merge.sbatch (the tables, after the array); --submit submits both");
+  add_grid(slurm);
+  slurm->add_option("--partition", slurm_options.partition, "Slurm partition");
+  slurm->add_option("--time", slurm_options.time, "time limit per task (e.g. 4:00:00)");
+  slurm->add_option("--cpus-per-task", slurm_options.cpus_per_task, "CPUs per task, its --threads (default: --threads, or 1)")
+      ->check(fscil::within(fscil::ValidRange::at_least(1)));
+  slurm->add_option("--mem", slurm_options.mem, "memory per task (e.g. 8G)");
+  slurm->add_option("--max-parallel", slurm_options.max_parallel, "at most K tasks at once (--array=...%K)")
+      ->check(fscil::within(fscil::ValidRange::at_least(1)));
+  slurm->add_option("--sbatch-arg", slurm_options.sbatch_arguments, "another #SBATCH line, e.g. --account=abc (repeatable)");
+  slurm->add_flag("--submit", slurm_options.submit, "submit both scripts through sbatch and print the job ids");
+  slurm->add_flag("--missing-only", slurm_options.missing_only,
+                  "only the cells without their result files (after a failure, a preemption or a time limit)");
 
   std::string reproduction;
   bool list_reproductions = false;
@@ -156,6 +210,10 @@ int main(int argc, char** argv) {
       "report", "Rebuild summary.csv, results.tex, costs.csv, costs.tex and the Markdown tables from result files");
   report->add_option("--results", results_dir, "directory holding result JSON files")->required();
   report->add_option("--out", report_out, "where to write the tables (default: the results directory)");
+  std::string report_methods;
+  std::vector<std::string> report_grid;
+  report->add_option("--methods", report_methods, "the --methods of the command the results are of: rows in that order");
+  report->add_option("--grid", report_grid, "the --grid of the sweep the results are of: its cells in that order");
   bool report_paper = false;
   std::string paper_tables;
   report->add_flag("--paper", report_paper,
@@ -202,15 +260,20 @@ int main(int argc, char** argv) {
     } else if (logmel_command->parsed()) {
       fscil::run_logmel(logmel);
     } else if (report->parsed()) {
-      rebuild_reports(results_dir, report_out, report_paper, paper_tables);
+      rebuild_reports(results_dir, report_out, report_methods, report_grid, report_paper, paper_tables);
     } else if (analyze->parsed()) {
       analyze_contexts(analyze_results, analyze_out);
     } else if (check->parsed()) {
       status = fscil::check_reference(check_results, check_reference_file);
     } else if (reference->parsed()) {
       fscil::write_reference(reference_results, reference_out, reference_tolerance);
+    } else if (plan->parsed()) {
+      fmt::print("{}", fscil::render_plan(fscil::plan_cells(run, cells_grid)));
+    } else if (slurm->parsed()) {
+      fmt::print("{}", fscil::run_slurm(run, cells_grid, slurm_options, this_executable()));
     } else {
-      // The main job, a sweep of it, or a reproduction.
+      // The main job, a sweep of it, a reproduction, one cell of them, or every cell.
+      fscil::install_stop_handlers();
       if (reproduce->parsed()) {
         if (app.count("--out") == 0 && resume_dir.empty()) run.out = "reproductions/" + reproduction + "/" + run.dataset;
       } else if (run.methods.empty() || run.dataset.empty()) {
@@ -226,9 +289,15 @@ int main(int argc, char** argv) {
         run.out = resume_dir;
         run.resume = true;
       }
-      fmt::print("{}", reproduce->parsed() ? fscil::run_reproduction(reproduction, run)
-                       : sweep->parsed()   ? fscil::run_sweep(run, grid)
-                                           : fscil::run_benchmark(run));
+      if (run.cell >= 0 && (reproduce->parsed() || run_cells_command->parsed())) {
+        fmt::print(stderr, "fscil-bench: error: --cell: expected a run or sweep command (see: fscil-bench plan)\n");
+        return 2;
+      }
+      fmt::print("{}", reproduce->parsed()           ? fscil::run_reproduction(reproduction, run)
+                       : run_cells_command->parsed() ? fscil::run_cells(run, cells_grid, jobs, this_executable())
+                       : run.cell >= 0               ? fscil::run_cell(run, sweep->parsed() ? grid : std::vector<std::string>{}, run.cell)
+                       : sweep->parsed()             ? fscil::run_sweep(run, grid)
+                                                     : fscil::run_benchmark(run));
     }
     // Tables printed to a full disk or a closed pipe are a failure, not a success.
     errno = 0;
@@ -236,6 +305,11 @@ int main(int argc, char** argv) {
       throw std::runtime_error(
           fmt::format("standard output: cannot write ({})", errno != 0 ? std::strerror(errno) : "write error"));
     }
+  } catch (const fscil::StopRequested& stop) {
+    // Finished runs keep their result files, the run in progress its last session's checkpoint.
+    fmt::print(stderr, "fscil-bench: {}: finished sessions are kept; continue with the same command and --resume "
+                       "(a --cell continues by itself)\n", stop.what());
+    return 128 + stop.signal();
   } catch (const std::exception& error) {
     // One line naming what was wrong; earlier result files stay as they were written.
     std::string message = error.what();

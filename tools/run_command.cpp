@@ -22,6 +22,7 @@
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/stage_cache.h"
+#include "protocols/stop_request.h"
 #include "protocols/session_schedule.h"
 #include "reports/comparable_runs.h"
 #include "tools/byte_size.h"
@@ -262,7 +263,7 @@ std::string run_benchmark(const RunOptions& options) {
     planned.push_back(planned_run(method_names[m], method_params[m], seeds.front()));
   }
   require_room_for(planned, options);
-  const OutFolderLock lock(options.out);
+  const OutFolderLock lock = options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, options.cell);
 
   const auto machine = describe_machine();
   const std::string commit = source_commit();
@@ -289,6 +290,7 @@ std::string run_benchmark(const RunOptions& options) {
   const std::vector<RunRecord> finished = finished_runs(options);
   for (std::size_t m = 0; m < method_names.size(); ++m) {
     for (std::size_t s = 0; s < seeds.size(); ++s) {
+      stop_if_requested();
       progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", method_names[m], options.dataset, seeds[s],
                                  m * seeds.size() + s + 1, method_names.size() * seeds.size()));
       ParameterSet run_params = params;
@@ -455,6 +457,10 @@ std::string run_benchmark(const RunOptions& options) {
                                                outcomes.front().training_log};
       }
     }
+  }
+  if (options.cell >= 0) {
+    return fmt::format("Cell {}: {} result file(s) in {}/results/; tables over every cell: fscil-bench report\n",
+                       options.cell, records.size(), options.out);
   }
   return write_reports(options.out, records) +
          fmt::format("Results: {0}/summary.csv, {0}/sessions.csv, {0}/results.tex, costs in {0}/costs.csv and "

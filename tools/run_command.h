@@ -33,10 +33,16 @@ struct RunOptions {
   std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
   std::vector<std::string> assignments;  // --set key=value
   bool quiet = false;
+  // --cell K (tools/bench_cells.h): this command is cell K of a plan, narrowed to its methods and
+  // seed. It holds only that cell of --out, continues what --out holds of it, writes result files
+  // and no tables (fscil-bench report merges them). -1: a whole command.
+  int cell = -1;
 };
 
 // The main job: every method x seed through the protocol, one result file per run written as
-// soon as it finishes, then summary.csv, results.tex and the rest; returns the Markdown tables.
+// soon as it finishes, then summary.csv, results.tex and the rest; returns the Markdown tables
+// (for a cell: where its result files are). Throws StopRequested after SIGTERM, its finished
+// sessions kept in checkpoints.
 std::string run_benchmark(const RunOptions& options);
 
 // Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.

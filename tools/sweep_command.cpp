@@ -16,10 +16,7 @@ namespace fscil {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// The run command of one cell: its values as --set assignments (or --selection), its own folder.
-RunOptions cell_options(const RunOptions& sweep, const std::map<std::string, std::string>& cell) {
+RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::string, std::string>& cell) {
   RunOptions run = sweep;
   run.grid = cell;
   run.out = (fs::path(sweep.out) / "cells" / grid_cell_name(cell)).string();
@@ -43,8 +40,6 @@ RunOptions cell_options(const RunOptions& sweep, const std::map<std::string, std
   return run;
 }
 
-}  // namespace
-
 std::vector<RunRecord> load_sweep_records(const std::string& out, const std::vector<std::string>& grid) {
   std::vector<std::string> order;
   for (const auto& cell : grid_cells(parse_grid(grid))) order.push_back(grid_cell_name(cell));
@@ -60,7 +55,7 @@ std::vector<RunRecord> load_sweep_records(const std::string& out, const std::vec
 std::string run_sweep(const RunOptions& options, const std::vector<std::string>& grid) {
   const auto cells = grid_cells(parse_grid(grid));
   std::vector<RunOptions> runs;
-  for (const auto& cell : cells) runs.push_back(cell_options(options, cell));  // every cell is checked first
+  for (const auto& cell : cells) runs.push_back(sweep_cell_options(options, cell));  // every cell is checked first
   if (options.resume && !fs::is_directory(options.out)) {
     throw CliError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the interrupted "
                                "sweep)", options.out));

@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,10 @@ namespace fscil {
 // with a column per grid key. `selection` as a key sets --selection; any other key is a --set.
 // Returns the Markdown tables.
 std::string run_sweep(const RunOptions& options, const std::vector<std::string>& grid);
+
+// The run command of one cell of a sweep: its values as --set assignments (or --selection, for
+// the key selection), its own folder OUT/cells/KEY=VALUE+...; CliError on a key both fixed and swept.
+RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::string, std::string>& cell);
 
 // The result files below a sweep's folder with the cells in the order of `grid` (the first axis
 // varying slowest), so tables list them as the command named them.

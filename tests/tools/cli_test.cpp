@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -740,6 +741,91 @@ TEST_F(RealDatasetSmokeRun, MalformedDataIsOneErrorLineAndNoResults) {
   write_wav(data.path() / "101/101-0009.wav", std::vector<float>(100, 0.1f), 16000, 32000);
   expect_one_error_line(run("ls100", ""), "101-0009.wav: truncated");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results"));
+}
+
+}  // namespace
+}  // namespace fscil
+
+namespace fscil {
+namespace {
+
+std::string read_text(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
+  const CommandResult ablation = run_cli("plan --methods ablation --dataset simtex-mini --profile smoke --seeds 1-2");
+  ASSERT_EQ(ablation.exit_code, 0) << ablation.output;
+  // pits-sc, then the two pairs of cop-fscil variants that share a base, each for two seeds.
+  EXPECT_NE(ablation.output.find("6 cells"), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("    2  cop-fscil/cpi,cop-fscil/cpi+pspc "), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("    5  cop-fscil/cpi+pcqa,cop-fscil "), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("small (4 base epochs)"), std::string::npos) << ablation.output;
+  const CommandResult sweep = run_cli("plan --grid shot=1,5 --methods pits-sc,orco --dataset simtex --seeds 3");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
+  EXPECT_NE(sweep.output.find("4 cells"), std::string::npos) << sweep.output;
+  EXPECT_NE(sweep.output.find("    3  orco"), std::string::npos) << sweep.output;
+  EXPECT_NE(sweep.output.find("shot=5"), std::string::npos) << sweep.output;
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --seeds 1-2 --cell 2"),
+                        "--cell 2: this command has 2 cells, 0 to 1 (see: fscil-bench plan)");
+  expect_one_error_line(run_cli("plan --dataset simtex-mini"), "--methods and --dataset are required");
+}
+
+TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWithoutResults) {
+  TemporaryDirectory folder;
+  const std::string out = (folder.path() / "runs").string();
+  const std::string command =
+      "slurm --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --max-parallel 3 "
+      "--time 2:00:00 --sbatch-arg=--account=abc --out " + out;
+  const CommandResult written = run_cli(command);
+  ASSERT_EQ(written.exit_code, 0) << written.output;
+  EXPECT_NE(written.output.find("4 of 4 cells"), std::string::npos) << written.output;
+  const std::string array = read_text(folder.path() / "runs" / "slurm" / "array.sbatch");
+  for (const char* line : {"#SBATCH --array=0-3%3\n", "#SBATCH --cpus-per-task=1\n", "#SBATCH --signal=B:TERM@120\n",
+                           "#SBATCH --requeue\n", "#SBATCH --time=2:00:00\n", "#SBATCH --account=abc\n",
+                           "--methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2",
+                           "--cell \"$SLURM_ARRAY_TASK_ID\" --threads \"${SLURM_CPUS_PER_TASK:-1}\" &\n",
+                           "trap 'kill -TERM \"$child\" 2>/dev/null' TERM\n"}) {
+    EXPECT_NE(array.find(line), std::string::npos) << line << " not in\n" << array;
+  }
+  const std::string merge = read_text(folder.path() / "runs" / "slurm" / "merge.sbatch");
+  EXPECT_NE(merge.find("report --results " + out + " --methods prototype,cop-fscil\n"), std::string::npos) << merge;
+  EXPECT_EQ(std::system(("bash -n " + (folder.path() / "runs" / "slurm" / "array.sbatch").string()).c_str()), 0);
+
+  // Cells 0 (prototype, seed 1) and 3 (cop-fscil, seed 2) have their result files.
+  std::filesystem::create_directories(folder.path() / "runs" / "results");
+  std::ofstream(folder.path() / "runs" / "results" / "prototype__simtex-mini__seed1.json") << "{}";
+  std::ofstream(folder.path() / "runs" / "results" / "cop-fscil__simtex-mini__seed2.json") << "{}";
+  const CommandResult missing = run_cli(command + " --missing-only");
+  ASSERT_EQ(missing.exit_code, 0) << missing.output;
+  EXPECT_NE(missing.output.find("2 of 4 cells"), std::string::npos) << missing.output;
+  EXPECT_NE(read_text(folder.path() / "runs" / "slurm" / "array.sbatch").find("#SBATCH --array=1-2%3\n"), std::string::npos);
+
+  expect_one_error_line(run_cli(command + " --submit", "PATH=/nonexistent"), "sbatch --parsable");
+}
+
+TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
+  TemporaryDirectory folder;
+  const std::string options = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --no-cache --quiet";
+  const auto stopped = folder.path() / "stopped";
+  const auto checkpoint = stopped / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
+  const std::string script = fmt::format(
+      "{} {} --out {} 2> {}/stderr & pid=$!; while [ ! -f {} ]; do sleep 0.02; done; kill -TERM $pid; wait $pid",
+      FSCIL_BENCH_EXECUTABLE, options, stopped.string(), folder.path().string(), checkpoint.string());
+  const int status = std::system(("bash -c '" + script + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 143) << read_text(folder.path() / "stderr");
+  EXPECT_NE(read_text(folder.path() / "stderr").find("fscil-bench: stopped by SIGTERM: finished sessions are kept"),
+            std::string::npos);
+  ASSERT_TRUE(std::filesystem::exists(checkpoint));
+  EXPECT_FALSE(std::filesystem::exists(stopped / "results" / "cop-fscil__simtex-mini__seed1.json"));
+  const CommandResult resumed = run_cli(options + " --resume " + stopped.string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const CommandResult whole = run_cli(options + " --out " + (folder.path() / "whole").string());
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_EQ(accuracies_in(stopped / "results" / "cop-fscil__simtex-mini__seed1.json"),
+            accuracies_in(folder.path() / "whole" / "results" / "cop-fscil__simtex-mini__seed1.json"));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <optional>
 
 #include "protocols/protocol_error.h"
@@ -25,6 +26,35 @@ TEST(OutFolderLock, ASecondCommandOnTheSameFolderIsRefusedUntilTheFirstEnds) {
   const OutFolderLock elsewhere(directory.path() / "other");  // another folder is free
   first.reset();
   EXPECT_NO_THROW(OutFolderLock again(out));
+}
+
+TEST(OutFolderLock, CellsOfOnePlanShareTheFolderButNotACellAndExcludeAWholeCommand) {
+  TemporaryDirectory directory;
+  const auto out = directory.path() / "out";
+  std::optional<OutFolderLock> cell0(std::in_place, out, 0);
+  const OutFolderLock cell1(out, 1);  // another cell of the same folder runs beside it
+  const auto refused = [](const std::function<void()>& take, const std::string& why) {
+    try {
+      take();
+      ADD_FAILURE() << "not refused: " << why;
+    } catch (const ProtocolError& error) {
+      EXPECT_NE(std::string(error.what()).find(why), std::string::npos) << error.what();
+    }
+  };
+  refused([&] { OutFolderLock again(out, 0); }, "another fscil-bench command runs this cell");
+  refused([&] { OutFolderLock whole(out); }, "another fscil-bench command is writing there");
+  { const OutFolderLock parent = OutFolderLock::shared(out); }  // run-cells beside its cells
+  cell0.reset();
+  EXPECT_NO_THROW(OutFolderLock again(out, 0));
+  std::optional<OutFolderLock> whole;
+  refused([&] { whole.emplace(out); }, "another fscil-bench command is writing there");  // cell 1 still holds it
+}
+
+TEST(OutFolderLock, AWholeCommandExcludesEveryCell) {
+  TemporaryDirectory directory;
+  const OutFolderLock whole(directory.path());
+  EXPECT_THROW(OutFolderLock cell(directory.path(), 3), ProtocolError);
+  EXPECT_THROW(OutFolderLock::shared(directory.path()), ProtocolError);
 }
 
 }  // namespace
