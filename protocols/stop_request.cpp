@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <csignal>
 #include <cstring>
 
@@ -9,17 +10,20 @@ namespace fscil {
 
 namespace {
 
-volatile std::sig_atomic_t requested_signal = 0;
+// Lock-free, so safe in a handler, and seen by every thread (the signal may land on any of them).
+std::atomic<int> requested_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free);
 
 extern "C" void record_stop(int signal) {
-  if (signal == SIGINT && requested_signal != 0) {  // Ctrl-C twice: stop now
+  if (signal == SIGINT && requested_signal != 0) {  // Ctrl-C after any stop request: stop now
     std::signal(signal, SIG_DFL);
     std::raise(signal);
     return;
   }
   // A second SIGTERM is the same request: Slurm may signal the process and its batch script, which
   // passes the signal on.
-  if (requested_signal == 0) requested_signal = signal;
+  int none = 0;
+  requested_signal.compare_exchange_strong(none, signal);
 }
 
 }  // namespace
@@ -33,7 +37,7 @@ void install_stop_handlers() {
   struct sigaction action {};
   action.sa_handler = record_stop;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = 0;  // no SA_RESTART: a parent waiting for its children wakes up to forward the stop
+  action.sa_flags = SA_RESTART;  // blocking calls go on; the stop is acted on where it is polled
   sigaction(SIGTERM, &action, nullptr);
   sigaction(SIGINT, &action, nullptr);
 }
@@ -43,8 +47,6 @@ int stop_signal() { return requested_signal; }
 void stop_if_requested() {
   if (requested_signal != 0) throw StopRequested(requested_signal);
 }
-
-void request_stop(int signal) { requested_signal = signal; }
 
 void clear_stop_request() { requested_signal = 0; }
 

@@ -136,7 +136,8 @@ std::string run_cell(const RunOptions& options, const std::vector<std::string>& 
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid) {
   std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
-  const std::vector<std::string> order = methods.empty() ? std::vector<std::string>() : resolve_method_names(methods);
+  if (methods.empty()) return records;
+  const std::vector<std::string> order = resolve_method_names(methods);
   std::vector<std::string> cells;  // as load_sweep_records ordered them
   for (const auto& record : records) {
     if (std::find(cells.begin(), cells.end(), grid_cell_name(record.grid)) == cells.end()) {

@@ -46,7 +46,7 @@ std::string render_plan(const std::vector<BenchCell>& cells);
 std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index);
 
 // The result files below `results` ordered as the command runs them: grid cells as `grid` gives
-// them, then methods as `methods` names them ("" or "all": as found), then seeds in number order;
+// them, then methods as `methods` names them (empty: by file name), then seeds in number order;
 // so tables merged from cells read as the command's own.
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid);

@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -145,6 +146,9 @@ int main(int argc, char** argv) {
       "plan", "List the cells of a run or sweep command, one line each (index, methods, dataset, grid cell, seed, "
               "cost class): the units --cell K, run-cells and slurm run; methods sharing a base session share a cell");
   add_grid(plan);
+  bool plan_missing_only = false;
+  plan->add_flag("--missing-only", plan_missing_only,
+                 "only the cells without their result files; exit 1 when there are any (the Slurm merge job's check)");
 
   int jobs = 1;
   auto* run_cells_command = app.add_subcommand(
@@ -247,6 +251,20 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "fscil-bench: error: {} (try: fscil-bench --help)\n", fscil::shown_text(error.what(), 2000));
     return 2;
   }
+  if (!resume_dir.empty()) {
+    if (app.count("--out") > 0 && run.out != resume_dir) {
+      fmt::print(stderr, "fscil-bench: error: --resume {} and --out {}: a resumed run writes where it started\n",
+                 resume_dir, run.out);
+      return 2;
+    }
+    run.out = resume_dir;
+    run.resume = true;
+  }
+  const bool runs_one_command = app.get_subcommands().empty() || sweep->parsed();
+  if (run.cell >= 0 && !runs_one_command) {
+    fmt::print(stderr, "fscil-bench: error: --cell: expected a run or sweep command (see: fscil-bench plan)\n");
+    return 2;
+  }
   int status = 0;
   try {
     if (list->parsed()) {
@@ -268,7 +286,14 @@ int main(int argc, char** argv) {
     } else if (reference->parsed()) {
       fscil::write_reference(reference_results, reference_out, reference_tolerance);
     } else if (plan->parsed()) {
-      fmt::print("{}", fscil::render_plan(fscil::plan_cells(run, cells_grid)));
+      auto cells = fscil::plan_cells(run, cells_grid);
+      if (plan_missing_only) {
+        cells.erase(std::remove_if(cells.begin(), cells.end(),
+                                   [&](const fscil::BenchCell& cell) { return fscil::cell_has_results(run, cell); }),
+                    cells.end());
+        status = cells.empty() ? 0 : 1;
+      }
+      fmt::print("{}", fscil::render_plan(cells));
     } else if (slurm->parsed()) {
       fmt::print("{}", fscil::run_slurm(run, cells_grid, slurm_options, this_executable()));
     } else {
@@ -278,19 +303,6 @@ int main(int argc, char** argv) {
         if (app.count("--out") == 0 && resume_dir.empty()) run.out = "reproductions/" + reproduction + "/" + run.dataset;
       } else if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");
-        return 2;
-      }
-      if (!resume_dir.empty()) {
-        if (app.count("--out") > 0 && run.out != resume_dir) {
-          fmt::print(stderr, "fscil-bench: error: --resume {} and --out {}: a resumed run writes where it started\n",
-                     resume_dir, run.out);
-          return 2;
-        }
-        run.out = resume_dir;
-        run.resume = true;
-      }
-      if (run.cell >= 0 && (reproduce->parsed() || run_cells_command->parsed())) {
-        fmt::print(stderr, "fscil-bench: error: --cell: expected a run or sweep command (see: fscil-bench plan)\n");
         return 2;
       }
       fmt::print("{}", reproduce->parsed()           ? fscil::run_reproduction(reproduction, run)

@@ -14,14 +14,19 @@ namespace fscil {
 
 namespace {
 
-// Locks `descriptor`; false when another process holds a conflicting lock. A file system without
-// flock (some cluster mounts) leaves the folder unguarded rather than unusable.
-bool try_lock(int descriptor, int operation) {
-  if (::flock(descriptor, operation | LOCK_NB) == 0) return true;
-  return errno != EWOULDBLOCK;
-}
+enum class Locked { yes, busy };
 
-const char* kBusy = "another fscil-bench command is writing there; wait for it or use another --out";
+// flock()s `file` (created if needed); busy when another process holds a conflicting lock.
+Locked lock_file(const std::filesystem::path& file, int operation, int& descriptor) {
+  descriptor = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (descriptor < 0) {
+    throw ProtocolError(fmt::format("{}: cannot create the lock file ({})", file.string(), std::strerror(errno)));
+  }
+  if (::flock(descriptor, operation | LOCK_NB) == 0) return Locked::yes;
+  if (errno == EWOULDBLOCK) return Locked::busy;
+  if (errno == ENOLCK || errno == ENOSYS || errno == EOPNOTSUPP) return Locked::yes;  // no locks on this file system
+  throw ProtocolError(fmt::format("{}: cannot lock ({})", file.string(), std::strerror(errno)));
+}
 
 }  // namespace
 
@@ -29,13 +34,11 @@ OutFolderLock::OutFolderLock(const std::filesystem::path& folder, Hold hold) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) throw ProtocolError(fmt::format("--out {}: cannot create the folder ({})", folder.string(), error.message()));
-  descriptor_ = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (descriptor_ < 0) {
-    throw ProtocolError(fmt::format("--out {}: cannot open the folder ({})", folder.string(), std::strerror(errno)));
-  }
-  if (!try_lock(descriptor_, hold == Hold::whole ? LOCK_EX : LOCK_SH)) {
-    ::close(descriptor_);
-    throw ProtocolError(fmt::format("--out {}: {}", folder.string(), kBusy));
+  descriptors_.push_back(-1);
+  if (lock_file(folder / ".lock", hold == Hold::whole ? LOCK_EX : LOCK_SH, descriptors_.back()) == Locked::busy) {
+    release();
+    throw ProtocolError(fmt::format("--out {}: another fscil-bench command is writing there; wait for it or use "
+                                    "another --out", folder.string()));
   }
 }
 
@@ -43,31 +46,32 @@ OutFolderLock::OutFolderLock(const std::filesystem::path& folder) : OutFolderLoc
 
 OutFolderLock OutFolderLock::shared(const std::filesystem::path& folder) { return OutFolderLock(folder, Hold::shared); }
 
-OutFolderLock::OutFolderLock(const std::filesystem::path& folder, int cell) : OutFolderLock(folder, Hold::shared) {
-  const std::filesystem::path file = folder / fmt::format(".cell-{}.lock", cell);
-  cell_descriptor_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (cell_descriptor_ < 0) {
-    const std::string reason = std::strerror(errno);
-    ::close(descriptor_);
-    throw ProtocolError(fmt::format("{}: cannot create the cell's lock file ({})", file.string(), reason));
-  }
-  if (!try_lock(cell_descriptor_, LOCK_EX)) {
-    ::close(cell_descriptor_);
-    ::close(descriptor_);
-    throw ProtocolError(fmt::format("--out {} --cell {}: another fscil-bench command runs this cell; wait for it",
-                                    folder.string(), cell));
+OutFolderLock::OutFolderLock(const std::filesystem::path& folder, const std::vector<std::string>& runs)
+    : OutFolderLock(folder, Hold::shared) {
+  for (const auto& run : runs) {
+    descriptors_.push_back(-1);
+    try {
+      if (lock_file(folder / (".lock-" + run), LOCK_EX, descriptors_.back()) == Locked::busy) {
+        throw ProtocolError(fmt::format("--out {}: another fscil-bench command runs {}; wait for it", folder.string(), run));
+      }
+    } catch (...) {
+      release();
+      throw;
+    }
   }
 }
 
-OutFolderLock::OutFolderLock(OutFolderLock&& other) noexcept
-    : descriptor_(other.descriptor_), cell_descriptor_(other.cell_descriptor_) {
-  other.descriptor_ = -1;
-  other.cell_descriptor_ = -1;
+OutFolderLock::OutFolderLock(OutFolderLock&& other) noexcept : descriptors_(std::move(other.descriptors_)) {
+  other.descriptors_.clear();
 }
 
-OutFolderLock::~OutFolderLock() {
-  if (cell_descriptor_ >= 0) ::close(cell_descriptor_);
-  if (descriptor_ >= 0) ::close(descriptor_);
+void OutFolderLock::release() {
+  for (int descriptor : descriptors_) {
+    if (descriptor >= 0) ::close(descriptor);
+  }
+  descriptors_.clear();
 }
+
+OutFolderLock::~OutFolderLock() { release(); }
 
 }  // namespace fscil

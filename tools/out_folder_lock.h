@@ -1,18 +1,22 @@
 #pragma once
 #include <filesystem>
+#include <string>
+#include <vector>
 
 namespace fscil {
 
 // Holds an --out folder for one command: a second command on the same folder is refused (its
-// result files and checkpoints would interleave). The locks go with the process, kill -9
-// included, so nothing is left behind.
+// result files and checkpoints would interleave). The locks are flock()s on `.lock` files in the
+// folder, opened for writing so NFS's emulation takes them too; they go with the process, kill -9
+// included. On a file system without locks the folder is unguarded rather than unusable.
 class OutFolderLock {
  public:
   // The whole folder (creates it if needed).
   explicit OutFolderLock(const std::filesystem::path& folder);
-  // One cell of a plan (--cell K): the folder shared with the commands of other cells, cell K
-  // alone; a command holding the whole folder excludes them all, and they it.
-  OutFolderLock(const std::filesystem::path& folder, int cell);
+  // The runs of one cell (--cell K), named as their result files are without extension: the
+  // folder shared with the commands of other cells, these runs alone; a command holding the whole
+  // folder excludes them all, and they it.
+  OutFolderLock(const std::filesystem::path& folder, const std::vector<std::string>& runs);
   // The folder shared: single cells may run below it (run-cells, a sweep's --cell), a command
   // that wants the whole folder may not.
   static OutFolderLock shared(const std::filesystem::path& folder);
@@ -25,8 +29,8 @@ class OutFolderLock {
  private:
   enum class Hold { whole, shared };
   OutFolderLock(const std::filesystem::path& folder, Hold hold);
-  int descriptor_ = -1;
-  int cell_descriptor_ = -1;
+  void release();
+  std::vector<int> descriptors_;
 };
 
 }  // namespace fscil

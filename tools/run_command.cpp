@@ -106,9 +106,10 @@ std::vector<RunRecord> finished_runs(const RunOptions& options) {
 }
 
 // A new command may add runs to an --out only where they can share its tables (same data,
-// profile, split, threads and protocol; per method, the same parameters).
+// profile, split, threads and protocol; per method, the same parameters). A cell is checked even
+// as it continues: its folder holds the other cells' runs.
 void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& options) {
-  if (options.resume || !holds_results(options.out)) return;
+  if ((options.resume && options.cell < 0) || !holds_results(options.out)) return;
   const std::vector<RunRecord> existing = load_run_records(options.out);
   for (const auto& run : planned) {
     for (const auto& earlier : existing) {
@@ -263,7 +264,11 @@ std::string run_benchmark(const RunOptions& options) {
     planned.push_back(planned_run(method_names[m], method_params[m], seeds.front()));
   }
   require_room_for(planned, options);
-  const OutFolderLock lock = options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, options.cell);
+  std::vector<std::string> cell_runs;  // what a --cell command holds of the folder
+  for (const auto& method : method_names) {
+    for (std::uint64_t seed : seeds) cell_runs.push_back(checkpoint_path("", method, options.dataset, seed).stem().string());
+  }
+  const OutFolderLock lock = options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, cell_runs);
 
   const auto machine = describe_machine();
   const std::string commit = source_commit();

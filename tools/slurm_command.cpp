@@ -43,21 +43,19 @@ std::string array_script(const std::string& command, const std::string& range, i
       "cd {workdir} || exit 1\n"
       "# SIGTERM (a time limit near, or a preemption) goes to fscil-bench, which keeps the checkpoint of\n"
       "# its last finished session; a requeued task, or fscil-bench slurm --missing-only, continues it.\n"
+      "trap 'stop=1; [ -n \"${{child:-}}\" ] && kill -TERM \"$child\" 2>/dev/null' TERM\n"
       "{command} --cell \"$SLURM_ARRAY_TASK_ID\" --threads \"${{SLURM_CPUS_PER_TASK:-{cpus}}}\" &\n"
       "child=$!\n"
-      "trap 'kill -TERM \"$child\" 2>/dev/null' TERM\n"
-      "while :; do\n"
-      "  wait \"$child\"; status=$?\n"
-      "  kill -0 \"$child\" 2>/dev/null || break\n"
-      "done\n"
-      "exit \"$status\"\n",
+      "[ -n \"${{stop:-}}\" ] && kill -TERM \"$child\" 2>/dev/null\n"
+      "while kill -0 \"$child\" 2>/dev/null; do wait \"$child\"; done  # a trap ends a wait early\n"
+      "wait \"$child\"  # its exit status, which bash keeps\n",
       fmt::arg("range", range), fmt::arg("cpus", cpus), fmt::arg("logs", logs.string()),
       fmt::arg("common", common_lines(slurm)), fmt::arg("workdir", shell_command({workdir.string()})),
       fmt::arg("command", command));
 }
 
-std::string merge_script(const std::string& command, const fs::path& logs, const fs::path& workdir,
-                         const SlurmOptions& slurm) {
+std::string merge_script(const std::string& command, const std::string& check, const fs::path& logs,
+                         const fs::path& workdir, const SlurmOptions& slurm) {
   return fmt::format(
       "#!/bin/bash\n"
       "# The tables over every cell's result files, after the array: submitted with\n"
@@ -67,14 +65,16 @@ std::string merge_script(const std::string& command, const fs::path& logs, const
       "#SBATCH --output={logs}/merge.log\n"
       "{common}"
       "cd {workdir} || exit 1\n"
-      "{command}\n",
+      "{command}\n"
+      "# Fails, listing them, while any cell has no result file yet.\n"
+      "{check}\n",
       fmt::arg("logs", logs.string()), fmt::arg("common", common_lines(slurm)),
-      fmt::arg("workdir", shell_command({workdir.string()})), fmt::arg("command", command));
+      fmt::arg("workdir", shell_command({workdir.string()})), fmt::arg("command", command), fmt::arg("check", check));
 }
 
-// Runs `sbatch --parsable ...` and returns the job id it prints.
+// Runs `sbatch --parsable ...` and returns the job id it prints (its warnings go to stderr).
 std::string submit(const std::vector<std::string>& words) {
-  const std::string command = shell_command(words) + " 2>&1";
+  const std::string command = shell_command(words);
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) throw CliError(fmt::format("{}: cannot run", command));
   std::string output;
@@ -82,12 +82,14 @@ std::string submit(const std::vector<std::string>& words) {
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
   const int status = ::pclose(pipe);
   while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
-  if (status != 0 || output.empty() || output.find_first_not_of("0123456789;") != std::string::npos) {
-    throw CliError(fmt::format("{} failed ({}): {}", shell_command(words),
+  const std::string last_line = output.substr(output.rfind('\n') == std::string::npos ? 0 : output.rfind('\n') + 1);
+  const std::string id = last_line.substr(0, last_line.find(';'));  // "id;cluster" on a federation
+  if (status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
+    throw CliError(fmt::format("{} failed ({}){}", command,
                                WIFEXITED(status) ? fmt::format("exit {}", WEXITSTATUS(status)) : "no exit status",
-                               output.substr(0, output.find('\n'))));
+                               last_line.empty() ? "" : ": " + last_line));
   }
-  return output.substr(0, output.find(';'));  // "id;cluster" on a federation
+  return id;
 }
 
 }  // namespace
@@ -107,6 +109,12 @@ std::string array_range(const std::vector<int>& cells, int max_parallel) {
 std::string run_slurm(const RunOptions& options, const std::vector<std::string>& grid, const SlurmOptions& slurm,
                       const std::string& executable) {
   if (slurm.max_parallel < 0) throw CliError(fmt::format("--max-parallel {}: expected 0 (no limit) or more", slurm.max_parallel));
+  for (const auto& argument : slurm.sbatch_arguments) {
+    if (argument.rfind("--", 0) != 0 || argument.find_first_of("\n\r") != std::string::npos) {
+      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, e.g. --sbatch-arg=--account=abc",
+                                 shell_command({argument})));
+    }
+  }
   const auto cells = plan_cells(options, grid);
   std::vector<int> chosen;
   for (const auto& cell : cells) {
@@ -131,7 +139,11 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
   }
   write_file_atomically(array_file, array_script(shell_command(task), array_range(chosen, slurm.max_parallel), cpus,
                                                  logs, workdir, slurm));
-  write_file_atomically(merge_file, merge_script(shell_command(merge), logs, workdir, slurm));
+  std::vector<std::string> check = {executable, "plan"};
+  for (const auto& word : command_arguments(options, grid)) check.push_back(word);
+  if (!grid.empty()) check.erase(check.begin() + 2);  // "plan sweep --grid ...": plan takes --grid itself
+  check.emplace_back("--missing-only");
+  write_file_atomically(merge_file, merge_script(shell_command(merge), shell_command(check), logs, workdir, slurm));
   std::string text = fmt::format("{} of {} cells in {} ({} cpus per task); tables after them: {}\n", chosen.size(),
                                  cells.size(), array_file.string(), cpus, merge_file.string());
   if (!slurm.submit) {
@@ -139,8 +151,12 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
                               shell_command({array_file.string()}), shell_command({merge_file.string()}));
   }
   const std::string array_job = submit({"sbatch", "--parsable", array_file.string()});
-  const std::string merge_job =
-      submit({"sbatch", "--parsable", "--dependency=afterany:" + array_job, merge_file.string()});
+  std::string merge_job;
+  try {
+    merge_job = submit({"sbatch", "--parsable", "--dependency=afterany:" + array_job, merge_file.string()});
+  } catch (const CliError& error) {
+    throw CliError(fmt::format("array job {} submitted, its merge job not: {}", array_job, error.what()));
+  }
   return text + fmt::format("Submitted array job {} and merge job {}\n", array_job, merge_job);
 }
 

@@ -7,6 +7,7 @@
 
 #include "protocols/parameter_set.h"
 #include "reports/run_record.h"
+#include "tools/bench_cells.h"
 #include "tools/cli_error.h"
 #include "tools/out_folder_lock.h"
 #include "tools/report_writer.h"
@@ -65,7 +66,7 @@ std::string run_sweep(const RunOptions& options, const std::vector<std::string>&
     if (!options.quiet) fmt::print(stderr, "== cell {} of {}: {}\n", c + 1, runs.size(), grid_cell_name(runs[c].grid));
     run_benchmark(runs[c]);
   }
-  const std::string markdown = write_reports(options.out, load_sweep_records(options.out, grid));
+  const std::string markdown = write_reports(options.out, load_command_records(options.out, options.methods, grid));
   return markdown + fmt::format("Sweep of {0} cells: tables over every cell in {1}/summary.csv, {1}/sessions.csv, "
                                 "{1}/results.tex; each cell's own in {1}/cells/\n", runs.size(), options.out);
 }

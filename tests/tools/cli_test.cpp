@@ -786,11 +786,13 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
                            "#SBATCH --requeue\n", "#SBATCH --time=2:00:00\n", "#SBATCH --account=abc\n",
                            "--methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2",
                            "--cell \"$SLURM_ARRAY_TASK_ID\" --threads \"${SLURM_CPUS_PER_TASK:-1}\" &\n",
-                           "trap 'kill -TERM \"$child\" 2>/dev/null' TERM\n"}) {
+                           "trap 'stop=1; [ -n \"${child:-}\" ] && kill -TERM \"$child\" 2>/dev/null' TERM\n"}) {
     EXPECT_NE(array.find(line), std::string::npos) << line << " not in\n" << array;
   }
   const std::string merge = read_text(folder.path() / "runs" / "slurm" / "merge.sbatch");
   EXPECT_NE(merge.find("report --results " + out + " --methods prototype,cop-fscil\n"), std::string::npos) << merge;
+  EXPECT_NE(merge.find(" plan --methods prototype,cop-fscil "), std::string::npos) << merge;
+  EXPECT_NE(merge.find(" --missing-only\n"), std::string::npos) << merge;
   EXPECT_EQ(std::system(("bash -n " + (folder.path() / "runs" / "slurm" / "array.sbatch").string()).c_str()), 0);
 
   // Cells 0 (prototype, seed 1) and 3 (cop-fscil, seed 2) have their result files.
@@ -802,7 +804,17 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   EXPECT_NE(missing.output.find("2 of 4 cells"), std::string::npos) << missing.output;
   EXPECT_NE(read_text(folder.path() / "runs" / "slurm" / "array.sbatch").find("#SBATCH --array=1-2%3\n"), std::string::npos);
 
+  // plan --missing-only, the merge job's check: the same two cells, and a failure while there are any.
+  const std::string plan = "plan --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --out " + out;
+  const CommandResult still_missing = run_cli(plan + " --missing-only");
+  EXPECT_EQ(still_missing.exit_code, 1) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("2 cells"), std::string::npos) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("    1  prototype"), std::string::npos) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("    2  cop-fscil"), std::string::npos) << still_missing.output;
+
   expect_one_error_line(run_cli(command + " --submit", "PATH=/nonexistent"), "sbatch --parsable");
+  expect_one_error_line(run_cli(command + " --sbatch-arg=account=abc"), "expected one sbatch option on one line");
+  expect_one_error_line(run_cli(plan + " --cell 1"), "--cell: expected a run or sweep command");
 }
 
 TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
@@ -811,7 +823,8 @@ TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
   const auto stopped = folder.path() / "stopped";
   const auto checkpoint = stopped / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
   const std::string script = fmt::format(
-      "{} {} --out {} 2> {}/stderr & pid=$!; while [ ! -f {} ]; do sleep 0.02; done; kill -TERM $pid; wait $pid",
+      "{} {} --out {} 2> {}/stderr & pid=$!; for i in $(seq 6000); do [ -f {} ] && break; kill -0 $pid || break; "
+      "sleep 0.02; done; kill -TERM $pid; wait $pid",
       FSCIL_BENCH_EXECUTABLE, options, stopped.string(), folder.path().string(), checkpoint.string());
   const int status = std::system(("bash -c '" + script + "'").c_str());
   ASSERT_TRUE(WIFEXITED(status));

@@ -28,11 +28,11 @@ TEST(OutFolderLock, ASecondCommandOnTheSameFolderIsRefusedUntilTheFirstEnds) {
   EXPECT_NO_THROW(OutFolderLock again(out));
 }
 
-TEST(OutFolderLock, CellsOfOnePlanShareTheFolderButNotACellAndExcludeAWholeCommand) {
+TEST(OutFolderLock, CellsShareTheFolderButNotARunAndExcludeAWholeCommand) {
   TemporaryDirectory directory;
   const auto out = directory.path() / "out";
-  std::optional<OutFolderLock> cell0(std::in_place, out, 0);
-  const OutFolderLock cell1(out, 1);  // another cell of the same folder runs beside it
+  std::optional<OutFolderLock> cell0(std::in_place, out, std::vector<std::string>{"a__d__seed1", "b__d__seed1"});
+  const OutFolderLock cell1(out, {"a__d__seed2"});  // another cell of the same folder runs beside it
   const auto refused = [](const std::function<void()>& take, const std::string& why) {
     try {
       take();
@@ -41,11 +41,12 @@ TEST(OutFolderLock, CellsOfOnePlanShareTheFolderButNotACellAndExcludeAWholeComma
       EXPECT_NE(std::string(error.what()).find(why), std::string::npos) << error.what();
     }
   };
-  refused([&] { OutFolderLock again(out, 0); }, "another fscil-bench command runs this cell");
+  // Another command's cell with one of the same runs, however its plan numbers it.
+  refused([&] { OutFolderLock again(out, {"b__d__seed1"}); }, "another fscil-bench command runs b__d__seed1");
   refused([&] { OutFolderLock whole(out); }, "another fscil-bench command is writing there");
   { const OutFolderLock parent = OutFolderLock::shared(out); }  // run-cells beside its cells
   cell0.reset();
-  EXPECT_NO_THROW(OutFolderLock again(out, 0));
+  EXPECT_NO_THROW(OutFolderLock again(out, {"b__d__seed1"}));
   std::optional<OutFolderLock> whole;
   refused([&] { whole.emplace(out); }, "another fscil-bench command is writing there");  // cell 1 still holds it
 }
@@ -53,7 +54,7 @@ TEST(OutFolderLock, CellsOfOnePlanShareTheFolderButNotACellAndExcludeAWholeComma
 TEST(OutFolderLock, AWholeCommandExcludesEveryCell) {
   TemporaryDirectory directory;
   const OutFolderLock whole(directory.path());
-  EXPECT_THROW(OutFolderLock cell(directory.path(), 3), ProtocolError);
+  EXPECT_THROW(OutFolderLock cell(directory.path(), {"a__d__seed1"}), ProtocolError);
   EXPECT_THROW(OutFolderLock::shared(directory.path()), ProtocolError);
 }
 

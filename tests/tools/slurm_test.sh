@@ -36,7 +36,7 @@ wait_for_job() {
     state="$(job_state "$job")"
     [ -n "$state" ] || fail "job $job: slurmctld knows no such job"
     if ! echo "$state" | grep -qE 'PENDING|RUNNING|CONFIGURING|COMPLETING|REQUEUED|SUSPENDED'; then break; fi
-    [ $((SECONDS - start)) -lt 900 ] || fail "job $job still $state after 900 s"
+    [ $((SECONDS - start)) -lt 400 ] || fail "job $job still $state after 400 s"
     sleep 1
   done
   echo "job $job ended ($state) after $((SECONDS - start)) s"
@@ -113,6 +113,8 @@ case "$step" in
     [ ! -f "$out/results/cop-fscil__simtex-mini__seed1.json" ] || fail "the stopped task finished anyway (sent too late)"
     [ -f "$checkpoint" ] || fail "$checkpoint: the stopped task left no checkpoint"
     echo "task 2 stopped, its checkpoint kept: $(grep "stopped by SIGTERM" "$log")"
+    [ "$(job_state "$merge_job")" = FAILED ] || fail "merge job $merge_job: $(job_state "$merge_job") with a cell missing"
+    grep -q "^    2  cop-fscil " "$out/cell-logs/merge.log" || fail "the merge job's log does not name the missing cell 2"
     submit "$out" --missing-only
     grep -q -- "--array=2$" "$out/slurm/array.sbatch" || fail "--missing-only did not submit exactly cell 2: $(grep -- --array "$out/slurm/array.sbatch")"
     wait_for_job "$array_job"
