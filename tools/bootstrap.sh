@@ -14,6 +14,8 @@ packages=(
   clang-14 libclang-rt-14-dev llvm-14  # tests/fuzz: libFuzzer and sanitizer runtimes, llvm-symbolizer
   chromium  # the report page test: index.html and its figures opened in headless Chromium
   slurm-wlm munge  # the Slurm tests: tools/slurm_local.sh runs a single-node cluster from them
+  help2man  # the man page, from --help-all
+  python3-torch  # the test that reads a saved model with torch.load
 )
 
 install_missing_packages "${packages[@]}"

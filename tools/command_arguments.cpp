@@ -17,6 +17,7 @@ std::vector<std::string> command_arguments(const RunOptions& options, const std:
   if (options.no_cache) words.emplace_back("--no-cache");
   if (options.no_stage_cache) words.emplace_back("--no-stage-cache");
   if (!options.save_embeddings.empty()) words.insert(words.end(), {"--save-embeddings", options.save_embeddings});
+  if (options.save_model) words.emplace_back("--save-model");
   if (!options.max_memory.empty()) words.insert(words.end(), {"--max-memory", options.max_memory});
   for (const auto& assignment : options.assignments) words.insert(words.end(), {"--set", assignment});
   if (options.quiet) words.emplace_back("--quiet");

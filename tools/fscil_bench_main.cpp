@@ -118,6 +118,9 @@ int main(int argc, char** argv) {
   app.add_option("--save-embeddings", run.save_embeddings,
                  "last | all | session numbers (0,9): keep the scored test embeddings of those sessions in "
                  "OUT/embeddings/RUN.h5 (for the embedding figure of fscil-bench reproduce embedding)");
+  app.add_flag("--save-model", run.save_model,
+               "keep each run's final method state in OUT/models/RUN.pt: a dict of named tensors that Python's "
+               "torch.load reads");
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
   app.add_flag("--quiet", run.quiet, "no progress on stderr");
   app.add_option("--cell", run.cell,

@@ -17,6 +17,7 @@
 #include "datasets/library_versions.h"
 #include "datasets/stable_hash.h"
 #include "fscil_build_info.h"
+#include "tools/data_folder.h"
 
 namespace fscil {
 
@@ -128,7 +129,8 @@ std::string version_text() {
   std::string text = fmt::format("fscil-bench {} (commit {})\n", harness_version(), source_commit());
   for (const auto& [library, version] : library_versions()) text += fmt::format("  {:<11}{}\n", library, version);
   text += fmt::format("  {:<11}{}\n", "kernels", numeric_kernels());
-  return text + fmt::format("  {:<11}{}", "compiler", compiler_version());
+  text += fmt::format("  {:<11}{}\n", "compiler", compiler_version());
+  return text + fmt::format("  {:<11}{}", "data", data_folder().string());
 }
 
 }  // namespace fscil

@@ -22,7 +22,8 @@ std::string source_commit();
 // that trains a cached base (protocols/stage_cache.h). Any rebuild that changes the code changes
 // it. Empty when the executable cannot be read.
 std::string code_digest(const std::map<std::string, std::string>& machine);
-// What `fscil-bench --version` prints: release, commit, libraries, kernels and compiler, a line each.
+// What `fscil-bench --version` prints: release, commit, libraries, kernels, compiler and the data
+// folder (tools/data_folder.h), a line each.
 std::string version_text();
 
 }  // namespace fscil

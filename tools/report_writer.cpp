@@ -11,6 +11,7 @@
 #include "reports/summary_table.h"
 #include "reports/tidy_sessions.h"
 #include "reports/training_log.h"
+#include "tools/data_folder.h"
 
 namespace fscil {
 
@@ -41,7 +42,7 @@ std::string write_reports(const std::filesystem::path& out, const std::vector<Ru
   return render_markdown(table) + "\n" + render_cost_markdown(costs);
 }
 
-std::filesystem::path default_paper_tables() { return FSCIL_SOURCE_DIR "/reports/reference/paper_tables.csv"; }
+std::filesystem::path default_paper_tables() { return reference_file("paper_tables.csv"); }
 
 std::string write_paper_comparison(const std::filesystem::path& out, const std::vector<RunRecord>& records,
                                    const std::filesystem::path& paper_tables) {

@@ -16,6 +16,7 @@
 #include "reports/setting_table.h"
 #include "reports/summary_table.h"
 #include "tools/cli_error.h"
+#include "tools/data_folder.h"
 #include "tools/embedding_figure.h"
 #include "tools/report_writer.h"
 #include "tools/sweep_command.h"
@@ -52,7 +53,7 @@ struct Reproduction {
   std::function<Rendered(const Results&)> write;
 };
 
-fs::path paper_file(const char* name) { return fs::path(FSCIL_SOURCE_DIR) / "reports" / "reference" / name; }
+fs::path paper_file(const char* name) { return reference_file(name); }
 
 // Our rows beside the paper's results or ablation table (test-split runs of a dataset it reports).
 Rendered beside_paper(const Results& results) {

@@ -21,6 +21,7 @@
 #include "protocols/protocol_error.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
+#include "protocols/saved_model.h"
 #include "protocols/stage_cache.h"
 #include "protocols/stop_request.h"
 #include "protocols/session_schedule.h"
@@ -430,6 +431,10 @@ std::string run_benchmark(const RunOptions& options) {
         saved_embeddings.write(fs::path(options.out) / "embeddings" /
                                    fs::path(run_record_file_name(record)).replace_extension(".h5"),
                                schedules[s].plan.base_classes);
+      }
+      if (options.save_model) {
+        save_model(fs::path(options.out) / "models" / fs::path(run_record_file_name(record)).replace_extension(".pt"),
+                   method->save_state());
       }
       const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
       const ModelCost cost = method->inference_cost(input);

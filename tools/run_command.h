@@ -30,6 +30,9 @@ struct RunOptions {
   // embeddings of those sessions go to OUT/embeddings/RUN.h5 (sessions: the saved session numbers;
   // session_S_embeddings N x D, session_S_labels; base_classes).
   std::string save_embeddings;
+  // --save-model: each run's final method state in OUT/models/RUN.pt, a dict of named tensors for
+  // Python's torch.load (protocols/saved_model.h).
+  bool save_model = false;
   std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
   std::vector<std::string> assignments;  // --set key=value
   bool quiet = false;

@@ -843,3 +843,32 @@ TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
 
 }  // namespace
 }  // namespace fscil
+
+namespace fscil {
+namespace {
+
+TEST(Cli, SaveModelKeepsEachRunsStateForPythonsTorchLoad) {
+  TemporaryDirectory out;
+  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet "
+                                    "--no-cache --save-model --out " + out.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto model = out.path() / "models" / "prototype__simtex-mini__seed1.pt";
+  ASSERT_TRUE(std::filesystem::exists(model));
+  if (std::system("/usr/bin/python3 -c 'import torch' > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << "/usr/bin/python3 has no torch (Debian python3-torch, installed by tools/bootstrap.sh)";
+  }
+  FILE* pipe = ::popen(("/usr/bin/python3 -c \"import torch, sys; d = torch.load(sys.argv[1]); "
+                        "print(len(d), int(d['seen_classes']), tuple(d['encoder.conv1.weight'].shape), "
+                        "all(isinstance(v, torch.Tensor) for v in d.values()))\" " + model.string() + " 2>&1").c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[512];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  ASSERT_EQ(::pclose(pipe), 0) << output;
+  // 127 tensors (ResNet-18 and the classifier); simtex-mini's 20 classes all seen; the 7 x 7 stem
+  // over its 5 channels.
+  EXPECT_EQ(output, "127 20 (64, 5, 7, 7) True\n");
+}
+
+}  // namespace
+}  // namespace fscil

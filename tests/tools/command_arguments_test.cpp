@@ -20,13 +20,14 @@ TEST(CommandArguments, WriteEveryOptionAndTheSweepWithoutThreadsResumeOrCell) {
   options.cache_dir = "/c";
   options.no_stage_cache = true;
   options.selection = "validation";
+  options.save_model = true;
   options.assignments = {"pic_weight=0.1", "shot=3"};
   const auto words = command_arguments(options, {"pspc_probes=5,50"});
   const std::vector<std::string> expected = {
       "sweep", "--grid", "pspc_probes=5,50", "--methods", "pits-sc,cop-fscil/cpi+pspc", "--dataset", "simtex-mini",
       "--profile", "smoke", "--seeds", "1-3", "--out", "out dir", "--features", "auto", "--split-mode", "recording",
       "--class-order", "natural", "--evaluate-on", "test", "--selection", "validation", "--cache-dir", "/c",
-      "--no-stage-cache", "--set", "pic_weight=0.1", "--set", "shot=3"};
+      "--no-stage-cache", "--save-model", "--set", "pic_weight=0.1", "--set", "shot=3"};
   EXPECT_EQ(words, expected);
   EXPECT_EQ(command_arguments(options, {}).front(), "--methods");
 }

@@ -1,0 +1,17 @@
+#include "tools/data_folder.h"
+
+namespace fscil {
+
+std::filesystem::path data_folder() {
+  std::error_code error;
+  const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    const auto installed = executable.parent_path().parent_path() / "share" / "fscil-bench";
+    if (std::filesystem::is_directory(installed / "reference")) return installed;
+  }
+  return std::filesystem::path(FSCIL_SOURCE_DIR) / "reports";
+}
+
+std::filesystem::path reference_file(const std::string& name) { return data_folder() / "reference" / name; }
+
+}  // namespace fscil
