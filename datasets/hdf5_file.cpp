@@ -3,6 +3,8 @@
 #include <H5Cpp.h>
 #include <fmt/format.h>
 
+#include <functional>
+
 #include "datasets/dataset_error.h"
 #include "reports/atomic_file.h"
 
@@ -49,11 +51,39 @@ auto guarded_read(const fs::path& path, const std::string& name, Reader reader) 
   }
 }
 
-void write_array(H5::H5File& file, const std::string& name, const std::vector<hsize_t>& dims,
-                 const H5::PredType& type, const void* data) {
+H5::DataSet write_array(H5::H5File& file, const std::string& name, const std::vector<hsize_t>& dims,
+                        const H5::DataType& type, const void* data) {
   H5::DataSpace space(static_cast<int>(dims.size()), dims.data());
   H5::DataSet dataset = file.createDataSet(name, type, space);
   dataset.write(data, type);
+  return dataset;
+}
+
+H5::StrType utf8_string_type() {
+  H5::StrType type(H5::PredType::C_S1, H5T_VARIABLE);
+  type.setCset(H5T_CSET_UTF8);
+  return type;
+}
+
+std::vector<const char*> pointers_to(const std::vector<std::string>& texts) {
+  std::vector<const char*> pointers;
+  for (const auto& text : texts) pointers.push_back(text.c_str());
+  return pointers;
+}
+
+// A list of variable-length strings, read as h5py would write it too.
+std::vector<std::string> read_strings(const H5::DataType& stored, const H5::DataSpace& space,
+                                      const std::function<void(void*, const H5::DataType&)>& read) {
+  if (stored.getClass() != H5T_STRING || !H5::StrType(stored.getId()).isVariableStr()) {
+    throw DatasetError("not variable-length strings");
+  }
+  const H5::StrType type = utf8_string_type();
+  std::vector<char*> pointers(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+  read(pointers.data(), type);
+  std::vector<std::string> texts;
+  for (char* pointer : pointers) texts.emplace_back(pointer == nullptr ? "" : pointer);
+  H5::DataSet::vlenReclaim(pointers.data(), type, space);
+  return texts;
 }
 
 }  // namespace
@@ -70,8 +100,19 @@ void write_hdf5_atomically(const fs::path& path, const Hdf5Contents& contents) {
       for (const auto& [name, values] : contents.integers) {
         write_array(file, name, {values.size()}, H5::PredType::NATIVE_INT32, values.data());
       }
-      for (const auto& [name, text] : contents.texts) {
-        write_array(file, name, {text.size()}, H5::PredType::NATIVE_CHAR, text.data());
+      const H5::StrType text = utf8_string_type();
+      for (const auto& [name, texts] : contents.strings) {
+        write_array(file, name, {texts.size()}, text, pointers_to(texts).data());
+      }
+      for (const auto& [name, table] : contents.tables) {
+        const hsize_t columns = table.columns.size();
+        H5::DataSet dataset = write_array(file, name, {columns == 0 ? 0 : table.values.size() / columns, columns},
+                                          H5::PredType::NATIVE_DOUBLE, table.values.data());
+        const hsize_t count = columns;
+        dataset.createAttribute("columns", text, H5::DataSpace(1, &count)).write(text, pointers_to(table.columns).data());
+      }
+      for (const auto& [name, value] : contents.attributes) {
+        file.createAttribute(name, text, H5::DataSpace(H5S_SCALAR)).write(text, value);
       }
       file.close();
     } catch (const H5::Exception& error) {
@@ -112,17 +153,60 @@ std::vector<std::int32_t> read_hdf5_integers(const fs::path& path, const std::st
   });
 }
 
-std::string read_hdf5_text(const fs::path& path, const std::string& name) {
+std::vector<std::string> read_hdf5_strings(const fs::path& path, const std::string& name) {
+  const H5::H5File file = open_for_reading(path);
+  return guarded_read(path, name, [&] {
+    const H5::DataSet dataset = open_dataset(file, path, name);
+    if (dims_of(dataset).size() != 1) {
+      throw DatasetError(fmt::format("{}: dataset '{}' is not a list of strings", path.string(), name));
+    }
+    try {
+      return read_strings(dataset.getDataType(), dataset.getSpace(),
+                          [&](void* buffer, const H5::DataType& type) { dataset.read(buffer, type); });
+    } catch (const DatasetError&) {
+      throw DatasetError(fmt::format("{}: dataset '{}' is not a list of strings", path.string(), name));
+    }
+  });
+}
+
+Hdf5Table read_hdf5_table(const fs::path& path, const std::string& name) {
   const H5::H5File file = open_for_reading(path);
   return guarded_read(path, name, [&] {
     const H5::DataSet dataset = open_dataset(file, path, name);
     const auto dims = dims_of(dataset);
-    if (dims.size() != 1) {
-      throw DatasetError(fmt::format("{}: dataset '{}' is not a text blob", path.string(), name));
+    if (dims.size() != 2 || dataset.getTypeClass() != H5T_FLOAT || !dataset.attrExists("columns")) {
+      throw DatasetError(fmt::format("{}: dataset '{}' is not a table (2-D floats with a 'columns' attribute)",
+                                     path.string(), name));
     }
-    std::string text(dims[0], '\0');
-    dataset.read(text.data(), H5::PredType::NATIVE_CHAR);
-    return text;
+    Hdf5Table table;
+    const H5::Attribute columns = dataset.openAttribute("columns");
+    try {
+      table.columns = read_strings(columns.getDataType(), columns.getSpace(),
+                                   [&](void* buffer, const H5::DataType& type) { columns.read(type, buffer); });
+    } catch (const DatasetError&) {
+      throw DatasetError(fmt::format("{}: the columns of dataset '{}' are not strings", path.string(), name));
+    }
+    if (table.columns.size() != dims[1]) {
+      throw DatasetError(fmt::format("{}: dataset '{}' has {} columns but names {}", path.string(), name, dims[1],
+                                     table.columns.size()));
+    }
+    table.values.resize(dims[0] * dims[1]);
+    if (!table.values.empty()) dataset.read(table.values.data(), H5::PredType::NATIVE_DOUBLE);
+    return table;
+  });
+}
+
+std::string read_hdf5_attribute(const fs::path& path, const std::string& name) {
+  const H5::H5File file = open_for_reading(path);
+  return guarded_read(path, name, [&] {
+    if (!file.attrExists(name)) throw DatasetError(fmt::format("{}: has no attribute '{}'", path.string(), name));
+    const H5::Attribute attribute = file.openAttribute(name);
+    if (attribute.getTypeClass() != H5T_STRING) {
+      throw DatasetError(fmt::format("{}: attribute '{}' is not text", path.string(), name));
+    }
+    std::string value;
+    attribute.read(attribute.getStrType(), value);
+    return value;
   });
 }
 

@@ -9,12 +9,23 @@
 
 namespace fscil {
 
-// What one HDF5 file of ours holds: float arrays, int32 vectors and text blobs, by dataset path.
-// Float arrays are borrowed: they can be large and must outlive the write.
+// A float64 table: rows x columns, row-major, its column names in the dataset's "columns"
+// attribute (what pandas and h5py users expect of a named table).
+struct Hdf5Table {
+  std::vector<std::string> columns;
+  std::vector<double> values;
+};
+
+// What one HDF5 file of ours holds, by dataset path: float32 arrays, int32 vectors, lists of
+// variable-length UTF-8 strings, float64 tables, and attributes of the root group (variable-length
+// strings), all of which h5py reads as they are. Float arrays are borrowed: they can be large and
+// must outlive the write.
 struct Hdf5Contents {
   std::map<std::string, const FloatArray*> floats;
   std::map<std::string, std::vector<std::int32_t>> integers;
-  std::map<std::string, std::string> texts;
+  std::map<std::string, std::vector<std::string>> strings;
+  std::map<std::string, Hdf5Table> tables;
+  std::map<std::string, std::string> attributes;
 };
 
 // Writes to a temporary name beside `path` and renames, so no half file ever carries the name.
@@ -25,6 +36,9 @@ void write_hdf5_atomically(const std::filesystem::path& path, const Hdf5Contents
 FloatArray read_hdf5_floats(const std::filesystem::path& path, const std::string& dataset,
                             int expected_rank = -1);
 std::vector<std::int32_t> read_hdf5_integers(const std::filesystem::path& path, const std::string& dataset);
-std::string read_hdf5_text(const std::filesystem::path& path, const std::string& dataset);
+std::vector<std::string> read_hdf5_strings(const std::filesystem::path& path, const std::string& dataset);
+Hdf5Table read_hdf5_table(const std::filesystem::path& path, const std::string& dataset);
+// A root attribute; DatasetError naming the file and attribute when it is missing or not text.
+std::string read_hdf5_attribute(const std::filesystem::path& path, const std::string& attribute);
 
 }  // namespace fscil

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cstring>
 
@@ -13,7 +11,9 @@
 namespace fscil {
 
 namespace {
-constexpr int kCacheFormat = 3;  // 2: segments only, no features; 3: with a digest of the contents
+// 2: segments only, no features; 3: with a digest of the contents; 4: metadata as attributes and
+// variable-length strings, contexts as a float64 table (docs/datasets.md, "Files").
+constexpr int kCacheFormat = 4;
 
 std::vector<std::int32_t> to_int32(const std::vector<int>& values) { return {values.begin(), values.end()}; }
 std::vector<int> to_int(const std::vector<std::int32_t>& values) { return {values.begin(), values.end()}; }
@@ -61,8 +61,7 @@ std::string digest_of(const SegmentSet& s) {
   for (const auto& id : s.recording_ids) digest.add(id.data(), id.size());
   for (const SplitHint hint : s.recording_split) digest.add(&hint, sizeof(hint));
   for (const auto& name : s.context_names) digest.add(name.data(), name.size());
-  const std::vector<float> stored_context(s.context_values.begin(), s.context_values.end());  // as the file holds them
-  digest.add(stored_context);
+  digest.add(s.context_values);
   return digest.hex();
 }
 
@@ -112,8 +111,7 @@ std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& descripti
   const auto path = path_for(description);
   if (!std::filesystem::exists(path)) return std::nullopt;
   try {
-    const auto meta = nlohmann::json::parse(read_hdf5_text(path, "meta"));
-    if (meta.at("key").get<std::string>() != key_for(description)) {
+    if (read_hdf5_attribute(path, "key") != key_for(description)) {
       throw DatasetError(fmt::format("{}: cache key mismatch", path.string()));
     }
     SegmentSet s;
@@ -121,15 +119,15 @@ std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& descripti
     s.class_index = to_int(read_hdf5_integers(path, "class_index"));
     s.group_index = to_int(read_hdf5_integers(path, "group_index"));
     s.recording_index = to_int(read_hdf5_integers(path, "recording_index"));
-    s.recording_ids = meta.at("recording_ids").get<std::vector<std::string>>();
-    for (int code : meta.at("recording_split").get<std::vector<int>>()) {
-      s.recording_split.push_back(split_from_code(code, path));
+    s.recording_ids = read_hdf5_strings(path, "recording_ids");
+    for (int code : read_hdf5_integers(path, "recording_split")) s.recording_split.push_back(split_from_code(code, path));
+    if (std::stoi(read_hdf5_attribute(path, "context_count")) > 0) {
+      Hdf5Table contexts = read_hdf5_table(path, "contexts");
+      s.context_names = std::move(contexts.columns);
+      s.context_values = std::move(contexts.values);
     }
-    s.context_names = meta.at("context_names").get<std::vector<std::string>>();
-    const FloatArray context = read_hdf5_floats(path, "context_values", 1);
-    s.context_values.assign(context.values.begin(), context.values.end());
     check_against(s, description, path);
-    if (meta.at("digest").get<std::string>() != digest_of(s)) {
+    if (read_hdf5_attribute(path, "digest") != digest_of(s)) {
       throw DatasetError(fmt::format("{}: contents differ from their digest (the file was altered)", path.string()));
     }
     return s;
@@ -144,21 +142,29 @@ std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& descripti
 
 void SegmentCache::store(const DatasetDescription& description, const SegmentSet& s) const {
   Hdf5Contents contents;
-  FloatArray context({static_cast<std::int64_t>(s.context_values.size())});
-  std::copy(s.context_values.begin(), s.context_values.end(), context.values.begin());
   contents.floats["signals"] = &s.signals;
-  contents.floats["context_values"] = &context;
   contents.integers["class_index"] = to_int32(s.class_index);
   contents.integers["group_index"] = to_int32(s.group_index);
   contents.integers["recording_index"] = to_int32(s.recording_index);
-  std::vector<int> splits;
-  for (SplitHint hint : s.recording_split) splits.push_back(split_code(hint));
-  nlohmann::json meta = {{"key", key_for(description)},
-                         {"recording_ids", s.recording_ids},
-                         {"recording_split", splits},
-                         {"context_names", s.context_names},
-                         {"digest", digest_of(s)}};
-  contents.texts["meta"] = meta.dump();
+  for (SplitHint hint : s.recording_split) contents.integers["recording_split"].push_back(split_code(hint));
+  contents.strings["recording_ids"] = s.recording_ids;
+  contents.strings["channel_names"] = description.channel_names;
+  contents.strings["class_names"] = description.class_names;
+  if (!description.group_names.empty()) contents.strings["group_names"] = description.group_names;
+  // An empty table would be a zero-width dataset: none is written, context_count says so.
+  if (!s.context_names.empty()) contents.tables["contexts"] = {s.context_names, s.context_values};
+  contents.attributes = {{"format_version", std::to_string(kCacheFormat)},
+                         {"key", key_for(description)},
+                         {"digest", digest_of(s)},
+                         {"dataset", description.name},
+                         {"source", description.source},
+                         {"sample_rate", fmt::format("{}", description.sample_rate)},
+                         {"segment_length", std::to_string(description.segment.length)},
+                         {"segment_hop", std::to_string(description.segment.hop)},
+                         {"segment_max_per_recording", std::to_string(description.segment.max_per_recording)},
+                         {"front_end", description.front_end.describe()},
+                         {"context_count", std::to_string(s.context_names.size())},
+                         {"recording_split_codes", "0 none (the protocol splits), 1 train, 2 test, 3 validation"}};
   write_hdf5_atomically(path_for(description), contents);
 }
 

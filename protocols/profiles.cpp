@@ -32,17 +32,4 @@ void apply_profile(const std::string& name, ParameterSet& params) {
   throw ProtocolError(fmt::format("unknown profile '{}': expected one of {}", name, fmt::join(names, ", ")));
 }
 
-void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
-  static const std::vector<std::pair<const char*, std::vector<std::pair<const char*, const char*>>>> table = {
-      {"ls100", {{"pretrain_epochs", "10"}, {"pit_epochs", "10"}, {"epochs_new", "100"}, {"pretrain_lr", "0.1"},
-                 {"pit_lr", "0.01"}, {"lr_new", "0.1"}, {"p_cutmix", "0.6"}, {"pit_alpha", "0.8"}}},
-      {"ns100", {{"pretrain_epochs", "40"}, {"pit_epochs", "40"}, {"epochs_new", "200"}, {"pretrain_lr", "0.1"},
-                 {"pit_lr", "0.1"}, {"lr_new", "0.01"}, {"p_cutmix", "0.0"}, {"pit_alpha", "3.0"}}},
-  };
-  for (const auto& [name, settings] : table) {
-    if (dataset != name) continue;
-    for (const auto& [key, value] : settings) params.set_default(key, value);
-  }
-}
-
 }  // namespace fscil

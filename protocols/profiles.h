@@ -17,9 +17,5 @@ const std::vector<Profile>& profiles();
 // Applies the named profile's settings; throws ProtocolError for an unknown name.
 void apply_profile(const std::string& name, ParameterSet& params);
 
-// The released per-dataset hyper-parameters (PITS-SC's LS-100 and NS-100 configs: epochs,
-// learning rates, CutMix probability, mixing alpha). Applied before the profile, which may
-// shorten the epochs, and before --set. Datasets without an entry keep the tactile defaults.
-void apply_dataset_defaults(const std::string& dataset, ParameterSet& params);
 
 }  // namespace fscil

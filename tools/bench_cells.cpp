@@ -12,6 +12,7 @@
 #include "protocols/profiles.h"
 #include "reports/run_record.h"
 #include "tools/cli_error.h"
+#include "tools/dataset_defaults.h"
 #include "tools/out_folder_lock.h"
 #include "tools/report_writer.h"
 #include "tools/seed_list.h"

@@ -15,7 +15,7 @@ packages=(
   chromium  # the report page test: index.html and its figures opened in headless Chromium
   slurm-wlm munge  # the Slurm tests: tools/slurm_local.sh runs a single-node cluster from them
   help2man  # the man page, from --help-all
-  python3-torch  # the test that reads a saved model with torch.load
+  python3-torch python3-h5py  # tests that read a saved model and our HDF5 files from Python
 )
 
 install_missing_packages "${packages[@]}"

@@ -7,11 +7,11 @@ std::filesystem::path data_folder() {
   const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
     const auto installed = executable.parent_path().parent_path() / "share" / "fscil-bench";
-    if (std::filesystem::is_directory(installed / "reference")) return installed;
+    if (std::filesystem::is_directory(installed / "reports" / "reference")) return installed;
   }
-  return std::filesystem::path(FSCIL_SOURCE_DIR) / "reports";
+  return FSCIL_SOURCE_DIR;
 }
 
-std::filesystem::path reference_file(const std::string& name) { return data_folder() / "reference" / name; }
+std::filesystem::path reference_file(const std::string& name) { return data_folder() / "reports" / "reference" / name; }
 
 }  // namespace fscil

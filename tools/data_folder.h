@@ -4,11 +4,12 @@
 namespace fscil {
 
 // Where the files fscil-bench reads besides its inputs live (the paper's tables under
-// reference/): PREFIX/share/fscil-bench when the binary runs from an install prefix
-// (PREFIX/bin/fscil-bench), else the source tree it was built from (reports/).
+// reports/reference/, the released dataset configs under configs/): PREFIX/share/fscil-bench when
+// the binary runs from an install prefix (PREFIX/bin/fscil-bench), else the source tree it was
+// built from.
 std::filesystem::path data_folder();
 
-// A file of data_folder()'s reference/ folder, e.g. "paper_tables.csv".
+// A file of data_folder()'s reports/reference/ folder, e.g. "paper_tables.csv".
 std::filesystem::path reference_file(const std::string& name);
 
 }  // namespace fscil

@@ -13,18 +13,22 @@
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "protocols/shown_text.h"
+#include "protocols/stop_request.h"
 #include "reports/atomic_file.h"
 #include "reports/context_analysis.h"
 #include "reports/run_record.h"
-#include "protocols/stop_request.h"
+#include "reports/text_file.h"
 #include "tools/bench_cells.h"
 #include "tools/cell_runner.h"
+#include "tools/cli_error.h"
 #include "tools/cli_range.h"
+#include "tools/config_file.h"
 #include "tools/logmel_command.h"
 #include "tools/machine_info.h"
 #include "tools/reference_command.h"
 #include "tools/report_writer.h"
 #include "tools/reproduce_command.h"
+#include "tools/rerun_command.h"
 #include "tools/run_command.h"
 #include "tools/slurm_command.h"
 #include "tools/sweep_command.h"
@@ -123,6 +127,10 @@ int main(int argc, char** argv) {
                "torch.load reads");
   app.add_option("--set", run.assignments, "override a hyper-parameter or knob: key=value (repeatable)");
   app.add_flag("--quiet", run.quiet, "no progress on stderr");
+  std::string config_file;
+  app.add_option("--config", config_file,
+                 "JSON file of run options: {\"methods\": \"all\", \"seeds\": \"1-5\", \"set\": {\"shot\": 5}, \"grid\": "
+                 "{\"pspc_probes\": [5, 50]}}; options given on the command line override it");
   app.add_option("--cell", run.cell,
                  "run only cell K of this command (see: fscil-bench plan): its result files, no tables; continues "
                  "what --out holds of it")
@@ -178,6 +186,13 @@ int main(int argc, char** argv) {
   slurm->add_flag("--submit", slurm_options.submit, "submit both scripts through sbatch and print the job ids");
   slurm->add_flag("--missing-only", slurm_options.missing_only,
                   "only the cells without their result files (after a failure, a preemption or a time limit)");
+
+  std::string rerun_file;
+  auto* rerun = app.add_subcommand(
+      "rerun", "Run again exactly the run a result file records (method, dataset, profile, seed, threads, split, "
+               "selection, grid cell and every parameter), into --out (default: rerun)");
+  rerun->add_option("result", rerun_file, "a result file (OUT/results/RUN.json)")->required();
+  rerun->fallthrough();
 
   std::string reproduction;
   bool list_reproductions = false;
@@ -248,7 +263,18 @@ int main(int argc, char** argv) {
       ->capture_default_str();
 
   try {
-    app.parse(argc, argv);
+    std::vector<std::string> arguments(argv, argv + argc);
+    if (const std::string config = fscil::config_file_of(arguments); !config.empty()) {
+      arguments = fscil::with_config_file(arguments, config, [&](const std::string& name) {
+        return app.get_option_no_throw(name) != nullptr;
+      });
+    }
+    std::vector<char*> words;
+    for (auto& argument : arguments) words.push_back(argument.data());
+    app.parse(static_cast<int>(words.size()), words.data());
+  } catch (const fscil::CliError& error) {
+    fmt::print(stderr, "fscil-bench: error: {}\n", fscil::shown_text(error.what(), 2000));
+    return 2;
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --help-all
     fmt::print(stderr, "fscil-bench: error: {} (try: fscil-bench --help)\n", fscil::shown_text(error.what(), 2000));
@@ -304,6 +330,10 @@ int main(int argc, char** argv) {
       fscil::install_stop_handlers();
       if (reproduce->parsed()) {
         if (app.count("--out") == 0 && resume_dir.empty()) run.out = "reproductions/" + reproduction + "/" + run.dataset;
+      } else if (rerun->parsed()) {
+        if (app.count("--out") == 0 && resume_dir.empty()) run.out = "rerun";
+        run = fscil::rerun_options(
+            fscil::run_record_from_json_text(fscil::read_text_file(rerun_file), rerun_file), run);
       } else if (run.methods.empty() || run.dataset.empty()) {
         fmt::print(stderr, "fscil-bench: error: --methods and --dataset are required (try: fscil-bench list, --help)\n");
         return 2;

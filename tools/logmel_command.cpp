@@ -36,6 +36,17 @@ void run_logmel(LogMelOptions options) {
   }
   Hdf5Contents contents;
   contents.floats["logmel"] = &logmel;
+  const LogMelSettings& settings = options.settings;
+  contents.attributes = {{"format_version", "1"},
+                         {"source", options.input + ":/signal"},
+                         {"sample_rate", fmt::format("{}", settings.sample_rate)},
+                         {"n_fft", std::to_string(settings.n_fft)},
+                         {"hop", std::to_string(settings.hop)},
+                         {"n_mels", std::to_string(settings.n_mels)},
+                         {"center", settings.center ? "true" : "false"},
+                         {"mel_scale", options.mel_scale},
+                         {"mel_norm", options.mel_norm},
+                         {"layout", "channels x mel bins x frames, dB"}};
   write_hdf5_atomically(options.output, contents);
 }
 

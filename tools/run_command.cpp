@@ -1,3 +1,4 @@
+#include "tools/dataset_defaults.h"
 #include "tools/run_command.h"
 
 #include <fmt/format.h>

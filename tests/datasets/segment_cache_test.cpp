@@ -100,13 +100,18 @@ using Tampering = std::function<void(FloatArray& signals, Hdf5Contents& contents
 void tamper(const SegmentCache& cache, const PreparedDataset& built, const Tampering& change) {
   const auto path = cache.path_for(built.description);
   Hdf5Contents contents;
-  FloatArray signals = read_hdf5_floats(path, "signals", 3), context = read_hdf5_floats(path, "context_values", 1);
+  FloatArray signals = read_hdf5_floats(path, "signals", 3);
   contents.floats["signals"] = &signals;
-  contents.floats["context_values"] = &context;
-  for (const char* name : {"class_index", "group_index", "recording_index"}) {
+  for (const char* name : {"class_index", "group_index", "recording_index", "recording_split"}) {
     contents.integers[name] = read_hdf5_integers(path, name);
   }
-  contents.texts["meta"] = read_hdf5_text(path, "meta");
+  for (const char* name : {"recording_ids", "channel_names", "class_names"}) contents.strings[name] = read_hdf5_strings(path, name);
+  contents.tables["contexts"] = read_hdf5_table(path, "contexts");
+  for (const char* name : {"format_version", "key", "digest", "dataset", "source", "sample_rate", "segment_length",
+                           "segment_hop", "segment_max_per_recording", "front_end", "context_count",
+                           "recording_split_codes"}) {
+    contents.attributes[name] = read_hdf5_attribute(path, name);
+  }
   change(signals, contents);
   write_hdf5_atomically(path, contents);
 }

@@ -13,7 +13,8 @@ rm -rf "$work"
 mkdir -p "$work"
 prefix="$work/prefix"
 cmake --install "$build_dir" --prefix "$prefix" >"$work/install.log" || fail "cmake --install: $(tail -n 3 "$work/install.log")"
-for file in bin/fscil-bench share/fscil-bench/reference/paper_tables.csv share/fscil-bench/reference/paper_analyses.csv \
+for file in bin/fscil-bench share/fscil-bench/reports/reference/paper_tables.csv \
+  share/fscil-bench/reports/reference/paper_analyses.csv share/fscil-bench/configs/ls100.json \
   share/man/man1/fscil-bench.1 share/bash-completion/completions/fscil-bench share/doc/fscil_bench/LICENSE \
   share/doc/fscil_bench/CITATION.cff; do
   [ -f "$prefix/$file" ] || fail "$prefix/$file: not installed"

@@ -1,0 +1,25 @@
+#pragma once
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+// --config FILE: a JSON object whose keys name run options without their dashes
+// ("methods": "all", "seeds": "1-5", "threads": 2, "save-model": true), plus "set" (an object of
+// --set keys and values) and "grid" (an object of sweep keys and value lists). Returns the
+// command line with the file's options inserted: run options after the program name, --grid after
+// the subcommand that takes it. An option the command line gives itself is left out (the flag
+// overrides the file); the file's --set assignments come first, so the command line's assignment
+// of the same key wins. `is_option` says whether "--name" is a run option. CliError naming the
+// file on anything else: unreadable JSON, an unknown key, a value of the wrong type, a grid
+// without a sweep, plan, run-cells or slurm subcommand.
+std::vector<std::string> with_config_file(const std::vector<std::string>& command_line,
+                                          const std::filesystem::path& file,
+                                          const std::function<bool(const std::string&)>& is_option);
+
+// The FILE of `--config FILE` or `--config=FILE` in the command line, or "".
+std::string config_file_of(const std::vector<std::string>& command_line);
+
+}  // namespace fscil
