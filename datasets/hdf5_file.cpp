@@ -79,9 +79,11 @@ std::vector<std::string> read_strings(const H5::DataType& stored, const H5::Data
   }
   const H5::StrType type = utf8_string_type();
   std::vector<char*> pointers(static_cast<std::size_t>(space.getSimpleExtentNpoints()), nullptr);
+  if (pointers.empty()) return {};
   read(pointers.data(), type);
   std::vector<std::string> texts;
-  for (char* pointer : pointers) texts.emplace_back(pointer == nullptr ? "" : pointer);
+  texts.reserve(pointers.size());
+  for (char* pointer : pointers) texts.emplace_back(pointer == nullptr ? "" : pointer);  // before the reclaim
   H5::DataSet::vlenReclaim(pointers.data(), type, space);
   return texts;
 }
@@ -106,7 +108,11 @@ void write_hdf5_atomically(const fs::path& path, const Hdf5Contents& contents) {
       }
       for (const auto& [name, table] : contents.tables) {
         const hsize_t columns = table.columns.size();
-        H5::DataSet dataset = write_array(file, name, {columns == 0 ? 0 : table.values.size() / columns, columns},
+        if (columns == 0 || table.values.size() % columns != 0) {
+          throw DatasetError(fmt::format("{}: table '{}' has {} values for {} columns", path.string(), name,
+                                         table.values.size(), columns));
+        }
+        H5::DataSet dataset = write_array(file, name, {table.values.size() / columns, columns},
                                           H5::PredType::NATIVE_DOUBLE, table.values.data());
         const hsize_t count = columns;
         dataset.createAttribute("columns", text, H5::DataSpace(1, &count)).write(text, pointers_to(table.columns).data());

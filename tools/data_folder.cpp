@@ -7,7 +7,10 @@ std::filesystem::path data_folder() {
   const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
     const auto installed = executable.parent_path().parent_path() / "share" / "fscil-bench";
-    if (std::filesystem::is_directory(installed / "reports" / "reference")) return installed;
+    if (std::filesystem::is_directory(installed / "reports" / "reference") &&
+        std::filesystem::is_directory(installed / "configs")) {
+      return installed;
+    }
   }
   return FSCIL_SOURCE_DIR;
 }

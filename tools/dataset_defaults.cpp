@@ -2,26 +2,26 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-#include <nlohmann/json.hpp>
+#include <filesystem>
 
 #include "protocols/parameter_set.h"
 #include "tools/cli_error.h"
+#include "tools/config_file.h"
 #include "tools/data_folder.h"
 
 namespace fscil {
 
 void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
-  if (dataset.empty() || dataset.find_first_of("/.") != std::string::npos) return;
-  const auto file = data_folder() / "configs" / (dataset + ".json");
-  std::ifstream in(file);
-  if (!in) return;
-  try {
-    const auto config = nlohmann::json::parse(in);
-    for (const auto& [key, value] : config.at("set").items()) params.set_default(key, value.get<std::string>());
-  } catch (const nlohmann::json::exception& error) {
-    throw CliError(fmt::format("{}: expected {{\"set\": {{\"key\": \"value\", ...}}}} ({})", file.string(), error.what()));
+  const auto folder = data_folder() / "configs";
+  // A binary that lost its data folder would run LS-100 and NS-100 with other values, silently.
+  if (!std::filesystem::is_directory(folder)) {
+    throw CliError(fmt::format("{}: no such folder (the released dataset configs); run fscil-bench from its build "
+                               "tree or its install prefix", folder.string()));
   }
+  if (dataset.empty() || dataset.find_first_of("/.") != std::string::npos) return;
+  const auto file = folder / (dataset + ".json");
+  if (!std::filesystem::exists(file)) return;
+  for (const auto& [key, value] : config_settings(file)) params.set_default(key, value);
 }
 
 }  // namespace fscil

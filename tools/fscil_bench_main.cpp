@@ -331,6 +331,14 @@ int main(int argc, char** argv) {
       if (reproduce->parsed()) {
         if (app.count("--out") == 0 && resume_dir.empty()) run.out = "reproductions/" + reproduction + "/" + run.dataset;
       } else if (rerun->parsed()) {
+        for (const char* shaping : {"--methods", "--dataset", "--profile", "--seeds", "--threads", "--split-mode",
+                                    "--class-order", "--evaluate-on", "--selection", "--max-memory", "--set", "--cell"}) {
+          if (app.count(shaping) > 0) {
+            fmt::print(stderr, "fscil-bench: error: rerun {}: {} comes from the result file; use a run command to "
+                               "change it\n", rerun_file, shaping);
+            return 2;
+          }
+        }
         if (app.count("--out") == 0 && resume_dir.empty()) run.out = "rerun";
         run = fscil::rerun_options(
             fscil::run_record_from_json_text(fscil::read_text_file(rerun_file), rerun_file), run);

@@ -5,6 +5,7 @@ namespace fscil {
 RunOptions rerun_options(const RunRecord& record, const RunOptions& where) {
   RunOptions run;
   run.out = where.out;
+  run.resume = where.resume;
   run.data_root = where.data_root;
   run.cache_dir = where.cache_dir;
   run.no_cache = where.no_cache;

@@ -854,10 +854,10 @@ TEST(Cli, SaveModelKeepsEachRunsStateForPythonsTorchLoad) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto model = out.path() / "models" / "prototype__simtex-mini__seed1.pt";
   ASSERT_TRUE(std::filesystem::exists(model));
-  if (std::system("/usr/bin/python3 -c 'import torch' > /dev/null 2>&1") != 0) {
-    GTEST_SKIP() << "/usr/bin/python3 has no torch (Debian python3-torch, installed by tools/bootstrap.sh)";
+  if (std::system(FSCIL_PYTHON " -c 'import torch' > /dev/null 2>&1") != 0) {
+    GTEST_SKIP() << FSCIL_PYTHON << " has no torch (Debian python3-torch, installed by tools/bootstrap.sh)";
   }
-  FILE* pipe = ::popen(("/usr/bin/python3 -c \"import torch, sys; d = torch.load(sys.argv[1]); "
+  FILE* pipe = ::popen((std::string(FSCIL_PYTHON) + " -c \"import torch, sys; d = torch.load(sys.argv[1]); "
                         "print(len(d), int(d['seen_classes']), tuple(d['encoder.conv1.weight'].shape), "
                         "all(isinstance(v, torch.Tensor) for v in d.values()))\" " + model.string() + " 2>&1").c_str(), "r");
   ASSERT_NE(pipe, nullptr);
@@ -895,7 +895,7 @@ TEST(Cli, ConfigFileSetsRunOptionsAndTheCommandLineOverridesIt) {
 TEST(Cli, RerunRepeatsARunFromItsResultFileExactly) {
   TemporaryDirectory folder;
   const auto first = folder.path() / "first";
-  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 2 --threads 2 --quiet --no-cache "
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 2 --threads 1 --quiet --no-cache "
                     "--set shot=3 --class-order shuffled --out " + first.string()).exit_code, 0);
   const auto result = first / "results" / "prototype__simtex-mini__seed2.json";
   const auto again = folder.path() / "again";
@@ -911,7 +911,9 @@ TEST(Cli, RerunRepeatsARunFromItsResultFileExactly) {
   };
   EXPECT_EQ(parameters(repeated), parameters(result));
   EXPECT_NE(parameters(result).find("\"shot\": \"3\""), std::string::npos) << parameters(result);
+  EXPECT_NE(read_text(repeated).find("\"threads\": 1,"), std::string::npos);  // not this machine's 2 cores
   expect_one_error_line(run_cli("rerun " + (folder.path() / "none.json").string()), "none.json");
+  expect_one_error_line(run_cli("rerun " + result.string() + " --seeds 3"), "--seeds comes from the result file");
 }
 
 }  // namespace

@@ -35,6 +35,14 @@ TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
                           "--seeds", "3", "--set", "shot=5", "--config", file.string()};
   EXPECT_EQ(with_config_file(command_line, file, run_option), expected);
   EXPECT_EQ(config_file_of(command_line), file.string());
+  // An axis the command line sweeps replaces the file's axis and its fixed value.
+  const Words sweeps_shot = {"fscil-bench", "sweep", "--grid", "shot=2,4"};
+  const Words without_shot = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2", "--save-model",
+                              "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=2,4"};
+  EXPECT_EQ(with_config_file(sweeps_shot, file, run_option), without_shot);
+  const auto flags = write(directory, R"({"set": {"use_cutmix": true, "temperature": 16}})");
+  EXPECT_EQ(config_settings(flags), (std::vector<std::pair<std::string, std::string>>{{"use_cutmix", "true"},
+                                                                                      {"temperature", "16"}}));
   EXPECT_EQ(config_file_of({"fscil-bench", "--config=a.json"}), "a.json");
   EXPECT_EQ(config_file_of({"fscil-bench", "list"}), "");
 }
@@ -46,7 +54,7 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
       {"[1, 2]", "expected a JSON object of run options"},
       {"{\"method\": \"prototype\"}", "\"method\": not a run option"},
       {"{\"config\": \"other.json\"}", "\"config\": not a run option"},
-      {"{\"methods\": [\"prototype\"]}", "\"methods\": expected a string or a number"},
+      {"{\"methods\": [\"prototype\"]}", "\"methods\": expected a string, a number or true/false"},
       {"{\"set\": [\"shot=3\"]}", "\"set\": expected an object of keys and values"},
       {"{\"grid\": {\"shot\": 3}}", "\"grid\".shot: expected a list of values"},
       {"{\"grid\": {\"shot\": [1, 5]}}", "\"grid\" needs the sweep, plan, run-cells or slurm subcommand"},
