@@ -13,8 +13,9 @@
 
 namespace fscil {
 
-const std::vector<MethodEntry>& method_registry() {
-  static const std::vector<MethodEntry> table = {
+namespace {
+std::vector<MethodEntry>& registry() {
+  static std::vector<MethodEntry> table = {
       {"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
        &make_prototype_method},
       {"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, stochastic "
@@ -32,9 +33,8 @@ const std::vector<MethodEntry>& method_registry() {
   return table;
 }
 
-namespace {
 const MethodEntry* find_method(const std::string& name) {
-  for (const auto& entry : method_registry()) {
+  for (const auto& entry : registry()) {
     if (name == entry.name) return &entry;
   }
   return nullptr;
@@ -42,10 +42,29 @@ const MethodEntry* find_method(const std::string& name) {
 
 std::string known_names() {
   std::vector<std::string> names;
-  for (const auto& entry : method_registry()) names.emplace_back(entry.name);
+  for (const auto& entry : registry()) names.emplace_back(entry.name);
   return fmt::format("{}", fmt::join(names, ", "));
 }
 }  // namespace
+
+const std::vector<MethodEntry>& method_registry() { return registry(); }
+
+void register_method(MethodEntry entry) {
+  const bool well_formed = !entry.name.empty() && std::all_of(entry.name.begin(), entry.name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '/' || c == '+';
+  });
+  if (!well_formed) {
+    throw MethodError(fmt::format("register_method: '{}' is not a method name: expected a-z, 0-9 and -_/+", entry.name));
+  }
+  if (entry.name == "all" || entry.name == "ablation") {
+    throw MethodError(fmt::format("register_method: '{}' is reserved for a list of methods", entry.name));
+  }
+  if (find_method(entry.name) != nullptr) {
+    throw MethodError(fmt::format("register_method: '{}' is registered already", entry.name));
+  }
+  if (!entry.create) throw MethodError(fmt::format("register_method: '{}' has no create function", entry.name));
+  registry().push_back(std::move(entry));
+}
 
 std::vector<std::string> resolve_method_names(const std::string& request) {
   std::vector<std::string> names;

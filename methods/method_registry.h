@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -9,13 +10,18 @@ class Method;
 class ParameterSet;
 
 struct MethodEntry {
-  const char* name;
-  const char* summary;
-  std::unique_ptr<Method> (*create)(const ParameterSet& params);
+  std::string name;
+  std::string summary;
+  std::function<std::unique_ptr<Method>(const ParameterSet& params)> create;
 };
 
-// The explicit table of every registered method (no static self-registration: linkers drop it).
+// The built-in methods, then those added by register_method(), in that order ("all" runs them so).
 const std::vector<MethodEntry>& method_registry();
+
+// Adds a method compiled outside this tree, before the command line runs (its main() calls this,
+// then fscil_bench_main(): no static self-registration, which linkers drop). Throws MethodError
+// for a name that is taken, reserved (all, ablation) or not made of a-z, 0-9 and -_/+.
+void register_method(MethodEntry entry);
 
 // "all", or a comma-separated list of names; throws MethodError naming an unknown method.
 std::vector<std::string> resolve_method_names(const std::string& request);

@@ -1,0 +1,12 @@
+// fscil-bench's whole command line with one more method: `my-bench list` shows it, and
+// --methods small-cnn-ncm,prototype runs it beside the built-in ones.
+#include <methods/method_registry.h>
+#include <tools/command_line.h>
+
+#include "small_cnn_ncm_method.h"
+
+int main(int argc, char** argv) {
+  fscil::register_method({"small-cnn-ncm", "example out of tree: a small CNN trained on the base classes, "
+                                           "nearest class mean over its embeddings", &make_small_cnn_ncm_method});
+  return fscil::fscil_bench_main(argc, argv);
+}

@@ -1,0 +1,28 @@
+#pragma once
+#include "methods/common/traced_cost.h"
+#include "methods/method.h"
+
+namespace fscil {
+
+// A method whose whole trained state lives in a list of named modules (parameters and buffers:
+// keep counters such as the classes seen in a buffer too). It writes five functions: build(),
+// which creates the modules for a run and returns them by name, and train_base(), learn_session(),
+// embed() and classify(); train_base() starts with build_modules(context). save_state() and
+// restore_state() then copy the modules' tensors, and inference_cost() traces logits() on one
+// sample (methods/common/traced_cost.h), so embed() and classify() must not draw random numbers.
+class ModuleMethod : public Method {
+ public:
+  MethodState save_state() const override;
+  void restore_state(const MethodState& state, RunContext& context) override;
+  ModelCost inference_cost(const InputShape& input) const override;
+
+ protected:
+  virtual NamedModules build(const RunContext& context) = 0;
+  void build_modules(const RunContext& context);
+  const NamedModules& modules() const;
+
+ private:
+  NamedModules modules_;
+};
+
+}  // namespace fscil
