@@ -137,7 +137,7 @@ class Method {
   virtual MethodState save_state() const = 0;
   virtual void restore_state(const MethodState& state, RunContext& context) = 0;
   // Inference cost of one sample through embed() and classify() as the model stands now,
-  // counted by walking the method's modules (rules in metrics/model_cost.h).
+  // counted by walking the method's modules (rules in metrics/model_cost.h; a ModuleMethod traces it).
   virtual ModelCost inference_cost(const InputShape& input) const = 0;
 
   torch::Tensor logits(const torch::Tensor& features) { return classify(embed(features)); }

@@ -33,6 +33,11 @@ std::vector<MethodEntry>& registry() {
   return table;
 }
 
+bool& registry_closed() {
+  static bool closed = false;
+  return closed;
+}
+
 const MethodEntry* find_method(const std::string& name) {
   for (const auto& entry : registry()) {
     if (name == entry.name) return &entry;
@@ -49,7 +54,13 @@ std::string known_names() {
 
 const std::vector<MethodEntry>& method_registry() { return registry(); }
 
+void close_method_registry() { registry_closed() = true; }
+
 void register_method(MethodEntry entry) {
+  if (registry_closed()) {
+    throw MethodError(fmt::format("register_method('{}'): called after the command line started; register first",
+                                  entry.name));
+  }
   const bool well_formed = !entry.name.empty() && std::all_of(entry.name.begin(), entry.name.end(), [](char c) {
     return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '/' || c == '+';
   });

@@ -22,6 +22,9 @@ const std::vector<MethodEntry>& method_registry();
 // then fscil_bench_main(): no static self-registration, which linkers drop). Throws MethodError
 // for a name that is taken, reserved (all, ablation) or not made of a-z, 0-9 and -_/+.
 void register_method(MethodEntry entry);
+// The command line closes the registry as it starts: names it has read stay valid, and a later
+// register_method() throws MethodError.
+void close_method_registry();
 
 // "all", or a comma-separated list of names; throws MethodError naming an unknown method.
 std::vector<std::string> resolve_method_names(const std::string& request);

@@ -2,17 +2,29 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
+#include <set>
 
 #include "methods/common/module_state.h"
+#include "methods/common/traced_cost.h"
 
 namespace fscil {
 
 void ModuleMethod::build_modules(const RunContext& context) {
-  modules_ = build(context);
-  for (const auto& [name, module] : modules_) {
-    if (name.empty() || module == nullptr) throw MethodError("build() returned a module without a name or an object");
+  NamedModules built = build(context);
+  if (built.empty()) throw MethodError("build() returned no modules");
+  std::set<std::string> names;
+  std::set<const torch::nn::Module*> objects;
+  for (const auto& named : built) {
+    if (named.name.empty() || named.module == nullptr) throw MethodError("build() returned a module without a name or an object");
+    if (!names.insert(named.name).second) throw MethodError(fmt::format("build() returned two modules named '{}'", named.name));
+    for (const auto& part : named.module->modules()) {  // the module itself and everything inside it
+      if (!objects.insert(part.get()).second) {
+        throw MethodError(fmt::format("build(): '{}' shares a module with another entry: its tensors would count twice",
+                                      named.name));
+      }
+    }
   }
+  modules_ = std::move(built);
 }
 
 const NamedModules& ModuleMethod::modules() const {
@@ -22,26 +34,42 @@ const NamedModules& ModuleMethod::modules() const {
 
 MethodState ModuleMethod::save_state() const {
   MethodState state;
-  for (const auto& [name, module] : modules()) put_module(state, name + ".", *module);
+  for (const auto& named : modules()) put_module(state, named.name + ".", *named.module);
   return state;
 }
 
 void ModuleMethod::restore_state(const MethodState& state, RunContext& context) {
   build_modules(context);
-  for (const auto& [name, module] : modules_) take_module(state, name + ".", *module);
-  for (const auto& [key, tensor] : state) {
-    const bool known = std::any_of(modules_.begin(), modules_.end(),
-                                   [&](const auto& named) { return key.rfind(named.first + ".", 0) == 0; });
-    if (!known) throw MethodError(fmt::format("state entry '{}' belongs to none of this method's modules", key));
+  const MethodState expected = save_state();
+  for (const auto& entry : state) {
+    if (expected.count(entry.first) == 0) {
+      throw MethodError(fmt::format("state entry '{}' is none of this method's parameters or buffers", entry.first));
+    }
   }
+  for (const auto& named : modules_) take_module(state, named.name + ".", *named.module);
 }
 
 ModelCost ModuleMethod::inference_cost(const InputShape& input) const {
   const torch::Tensor sample = torch::zeros({1, input.channels, input.mel_bins, input.frames});
-  // Tracing runs the method as it stands, without changing it: logits() is not const only because
-  // embed() and classify() are not.
+  // Tracing runs the method as it stands: in eval mode, so no norm learns from the zeros, and each
+  // module's mode restored after. logits() is not const only because embed() and classify() are not.
+  std::vector<bool> training;
+  for (const auto& named : modules()) {
+    training.push_back(named.module->is_training());
+    named.module->eval();
+  }
   auto& method = const_cast<ModuleMethod&>(*this);
-  return traced_cost([&] { method.logits(sample); }, modules());
+  const auto restore_modes = [&] {
+    for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i].module->train(training[i]);
+  };
+  try {
+    const ModelCost cost = traced_cost([&] { method.logits(sample); }, modules_);
+    restore_modes();
+    return cost;
+  } catch (...) {
+    restore_modes();
+    throw;
+  }
 }
 
 }  // namespace fscil

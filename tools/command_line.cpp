@@ -75,6 +75,7 @@ void analyze_contexts(const std::string& results, const std::string& out) {
 }  // namespace
 
 int fscil::run_command_line(int argc, char** argv) {
+  fscil::close_method_registry();
   fscil::keep_freed_memory_for_reuse();
   CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
   app.set_help_all_flag("--help-all", "Help for every subcommand");

@@ -15,13 +15,13 @@ bool holds_data(const std::filesystem::path& folder) {
 void use_package_data_folder(const std::filesystem::path& folder) { package_data_folder() = folder; }
 
 std::filesystem::path data_folder() {
+  if (!package_data_folder().empty()) return package_data_folder();
   std::error_code error;
   const auto executable = std::filesystem::read_symlink("/proc/self/exe", error);
   if (!error) {
     const auto installed = executable.parent_path().parent_path() / "share" / "fscil-bench";
     if (holds_data(installed)) return installed;
   }
-  if (!package_data_folder().empty()) return package_data_folder();
   return FSCIL_SOURCE_DIR;
 }
 

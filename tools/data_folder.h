@@ -4,10 +4,10 @@
 namespace fscil {
 
 // Where the files fscil-bench reads besides its inputs live (the paper's tables under
-// reports/reference/, the released dataset configs under configs/): PREFIX/share/fscil-bench when
-// the binary runs from an install prefix (PREFIX/bin/fscil-bench), else the package folder a program
-// built against the installed package was given (use_package_data_folder), else the source tree
-// fscil-bench was built from.
+// reports/reference/, the released dataset configs under configs/): the package's folder in a
+// program built against the installed package (use_package_data_folder), else
+// PREFIX/share/fscil-bench when the binary runs from an install prefix (PREFIX/bin/fscil-bench),
+// else the source tree fscil-bench was built from.
 std::filesystem::path data_folder();
 
 void use_package_data_folder(const std::filesystem::path& folder);

@@ -2,6 +2,8 @@
 
 #include <protocols/valid_range.h>
 
+#include <algorithm>
+
 namespace F = torch::nn::functional;
 
 // Hyper-parameters come from --set KEY=VALUE; reading them here makes bad values fail before training.
@@ -17,15 +19,15 @@ fscil::NamedModules SmallCnnNcmMethod::build(const fscil::RunContext& context) {
       torch::nn::Conv2d(torch::nn::Conv2dOptions(width_, width_, 3).stride(2).padding(1).bias(false)),
       torch::nn::BatchNorm2d(width_), torch::nn::ReLU(),
       torch::nn::AdaptiveAvgPool2d(torch::nn::AdaptiveAvgPool2dOptions({1, 1})), torch::nn::Flatten());
-  base_head_ = torch::nn::Linear(width_, context.base_classes);
   means_ = ClassMeans(context.total_classes, width_);
-  return {{"encoder", encoder_.ptr()}, {"base_head", base_head_.ptr()}, {"means", means_.ptr()}};
+  return {{"encoder", encoder_.ptr()}, {"means", means_.ptr()}};
 }
 
 void SmallCnnNcmMethod::train_base(const fscil::SessionData& base, fscil::RunContext& context) {
   build_modules(context);
+  torch::nn::Linear base_head(width_, context.base_classes);
   std::vector<torch::Tensor> parameters = encoder_->parameters();
-  for (const auto& parameter : base_head_->parameters()) parameters.push_back(parameter);
+  for (const auto& parameter : base_head->parameters()) parameters.push_back(parameter);
   torch::optim::Adam optimizer(parameters, torch::optim::AdamOptions(learning_rate_));
   const std::int64_t batch = 64, samples = base.labels.size(0);
   encoder_->train();
@@ -34,7 +36,7 @@ void SmallCnnNcmMethod::train_base(const fscil::SessionData& base, fscil::RunCon
     double loss_sum = 0;
     for (std::int64_t first = 0; first < samples; first += batch) {
       const torch::Tensor index = order.narrow(0, first, std::min(batch, samples - first));
-      const torch::Tensor loss = F::cross_entropy(base_head_(encoder_->forward(base.features.gather(index))),
+      const torch::Tensor loss = F::cross_entropy(base_head(encoder_->forward(base.features.gather(index))),
                                                   base.labels.index_select(0, index));
       optimizer.zero_grad();
       loss.backward();
@@ -43,7 +45,6 @@ void SmallCnnNcmMethod::train_base(const fscil::SessionData& base, fscil::RunCon
     }
     context.log_epoch("base", epoch + 1, static_cast<int>(epochs_), {{"loss", loss_sum / static_cast<double>(samples)}});
   }
-  for (auto& parameter : parameters) parameter.requires_grad_(false);  // frozen: sessions only add means
   add_class_means(base);
 }
 
@@ -57,7 +58,8 @@ void SmallCnnNcmMethod::add_class_means(const fscil::SessionData& data) {
   for (const std::int64_t label : data.new_classes) {
     means_->rows[label] = embeddings.index({data.labels == label}).mean(0);
   }
-  means_->seen.fill_(data.new_classes.back() + 1);
+  const auto last = *std::max_element(data.new_classes.begin(), data.new_classes.end());
+  means_->seen.fill_(std::max(means_->seen.item<std::int64_t>(), last + 1));
 }
 
 torch::Tensor SmallCnnNcmMethod::embed(const torch::Tensor& features) {

@@ -6,6 +6,7 @@
 // A small CNN trained with cross-entropy on the base classes, then frozen; every class is the
 // mean of its training embeddings and a sample goes to the nearest mean (cosine). A ModuleMethod:
 // its state is its modules, so it writes build() and the four protocol functions, nothing else.
+// The base session's linear head is not one of them: only training uses it.
 class SmallCnnNcmMethod : public fscil::ModuleMethod {
  public:
   explicit SmallCnnNcmMethod(const fscil::ParameterSet& params);
@@ -13,6 +14,7 @@ class SmallCnnNcmMethod : public fscil::ModuleMethod {
   void learn_session(const fscil::SessionData& support, fscil::RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
+  bool sessions_keep_embedding() const override { return true; }  // the encoder is frozen after the base
 
  protected:
   fscil::NamedModules build(const fscil::RunContext& context) override;
@@ -24,7 +26,6 @@ class SmallCnnNcmMethod : public fscil::ModuleMethod {
   double learning_rate_;
   std::int64_t width_;
   torch::nn::Sequential encoder_{nullptr};
-  torch::nn::Linear base_head_{nullptr};
   // One row per class of the protocol, and how many are filled: buffers, so they are state.
   struct ClassMeansImpl : torch::nn::Module {
     ClassMeansImpl(std::int64_t classes, std::int64_t dim)

@@ -22,15 +22,16 @@ class LinearMeans : public ModuleMethod {
     return layer_(features.flatten(1));
   }
   torch::Tensor classify(const torch::Tensor& embeddings) override {
-    return torch::mm(embeddings, means_->weight.narrow(0, 0, seen_).t());
+    torch::NoGradGuard no_grad;
+    return torch::mm(embeddings, means_->weight.narrow(0, 0, means_->seen.item<std::int64_t>()).t());
   }
+  bool sessions_keep_embedding() const override { return true; }
 
  protected:
   NamedModules build(const RunContext& context) override {
     layer_ = torch::nn::Linear(context.input.feature_map().elements(), 8);
-    means_ = torch::nn::Linear(torch::nn::LinearOptions(8, context.total_classes).bias(false));
-    means_->weight.set_requires_grad(false);
-    return {{"layer", layer_.ptr()}, {"means", means_.ptr()}};
+    means_ = Means(context.total_classes, 8);
+    return {{"layer", layer_.ptr()}, {"means", means_.ptr(), /*trained_in_sessions=*/true}};
   }
 
  private:
@@ -38,10 +39,17 @@ class LinearMeans : public ModuleMethod {
     torch::NoGradGuard no_grad;
     const torch::Tensor embeddings = embed(data.features.all());
     for (std::int64_t label : data.new_classes) means_->weight[label] = embeddings.index({data.labels == label}).mean(0);
-    seen_ = data.new_classes.back() + 1;
+    means_->seen.fill_(data.new_classes.back() + 1);
   }
-  torch::nn::Linear layer_{nullptr}, means_{nullptr};
-  std::int64_t seen_ = 0;  // not state: restored methods below have it set by a session
+  struct MeansImpl : torch::nn::Module {
+    MeansImpl(std::int64_t classes, std::int64_t dim)
+        : weight(register_parameter("weight", torch::zeros({classes, dim}))),
+          seen(register_buffer("seen", torch::zeros({1}, torch::kLong))) {}
+    torch::Tensor weight, seen;
+  };
+  TORCH_MODULE(Means);
+  torch::nn::Linear layer_{nullptr};
+  Means means_{nullptr};
 };
 
 TEST(ModuleMethod, StateIsTheModulesAndARestoredMethodGivesTheSameLogits) {
@@ -52,10 +60,12 @@ TEST(ModuleMethod, StateIsTheModulesAndARestoredMethodGivesTheSameLogits) {
   const MethodState state = trained.save_state();
   std::set<std::string> keys;
   for (const auto& entry : state) keys.insert(entry.first);
-  EXPECT_EQ(keys, (std::set<std::string>{"layer.weight", "layer.bias", "means.weight"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"layer.weight", "layer.bias", "means.weight", "means.seen"}));
 
   LinearMeans restored;
   restored.restore_state(state, context);
+  const torch::Tensor before = torch::randn({5, 2, 4, 4});
+  EXPECT_TRUE(torch::equal(trained.logits(before), restored.logits(before)));
   const SessionData support = tiny_support(6);
   trained.learn_session(support, context);
   restored.learn_session(support, context);
@@ -69,9 +79,14 @@ TEST(ModuleMethod, RefusesAStateThatDoesNotFitAndSavingBeforeTraining) {
   EXPECT_THROW(untrained.save_state(), MethodError);
   LinearMeans trained;
   trained.train_base(tiny_base(), context);
-  MethodState extra = trained.save_state();
-  extra["head.weight"] = torch::zeros({2});
-  EXPECT_THROW(LinearMeans().restore_state(extra, context), MethodError);
+  for (const char* stray : {"head.weight", "layer.old_weight"}) {
+    MethodState extra = trained.save_state();
+    extra[stray] = torch::zeros({2});
+    EXPECT_THROW(LinearMeans().restore_state(extra, context), MethodError) << stray;
+  }
+  MethodState missing = trained.save_state();
+  missing.erase("means.seen");
+  EXPECT_THROW(LinearMeans().restore_state(missing, context), MethodError);
   MethodState reshaped = trained.save_state();
   reshaped["layer.weight"] = torch::zeros({8, 3});
   EXPECT_THROW(LinearMeans().restore_state(reshaped, context), MethodError);
@@ -84,9 +99,38 @@ TEST(ModuleMethod, InferenceCostIsTracedFromLogitsOnOneSample) {
   const ModelCost cost = method.inference_cost(context.input);
   EXPECT_EQ(cost.macs_of("linear"), 32 * 8 + 8 * 6);  // the layer, then 6 base class means
   EXPECT_EQ(cost.parameters(), 32 * 8 + 8 + 10 * 8);
-  EXPECT_EQ(cost.trainable_parameters(), 32 * 8 + 8);  // the means are frozen
+  EXPECT_EQ(cost.trainable_parameters(), 10 * 8);  // the means, which sessions write
 }
 
+// build() results that would save or count a tensor twice, or none.
+class BadModules : public LinearMeans {
+ public:
+  explicit BadModules(int fault) : fault_(fault) {}
+
+ protected:
+  NamedModules build(const RunContext& context) override {
+    NamedModules modules = LinearMeans::build(context);
+    if (fault_ == 0) return {};
+    if (fault_ == 1) modules.push_back({"layer", modules[0].module});
+    if (fault_ == 2) modules.push_back({"again", modules[0].module});
+    if (fault_ == 3) modules.push_back({"", modules[0].module});
+    return modules;
+  }
+
+ private:
+  int fault_;
+};
+
+TEST(ModuleMethod, RefusesNoModulesDuplicateNamesAndSharedModules) {
+  RunContext context = tiny_context(1);
+  for (int fault = 0; fault < 4; ++fault) {
+    BadModules method(fault);
+    EXPECT_THROW(method.train_base(tiny_base(), context), MethodError) << fault;
+    EXPECT_THROW(method.save_state(), MethodError) << fault;  // nothing half-built was kept
+  }
+}
+
+// Registers into this process's registry for good: ctest runs each test in a process of its own.
 TEST(MethodRegistry, ARegisteredMethodJoinsAllAndIsCreatedByName) {
   register_method({"linear-means", "test", [](const ParameterSet&) { return std::make_unique<LinearMeans>(); }});
   const auto all = resolve_method_names("all");

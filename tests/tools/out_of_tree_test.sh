@@ -46,4 +46,8 @@ run second small-cnn-ncm
 grep -q "base session from the stage cache" "$work/second.log" || fail "the base was not restored from the stage cache"
 cmp -s <(grep '^small-cnn-ncm,' "$summary") <(grep '^small-cnn-ncm,' "$work/second/summary.csv") ||
   fail "restored from the stage cache, the run ended with other numbers"
-echo "a base restored from the stage cache gives the same numbers"
+# The cost columns (FLOPs, parameters, those trained in sessions), not the timings.
+costs() { awk -F, '$1 == "small-cnn-ncm" { print $4, $5, $6 }' "$1"; }
+[ "$(costs "$work/first/costs.csv")" = "$(costs "$work/second/costs.csv")" ] ||
+  fail "restored from the stage cache, the costs differ: $(costs "$work/first/costs.csv") / $(costs "$work/second/costs.csv")"
+echo "a base restored from the stage cache gives the same numbers and costs ($(costs "$work/first/costs.csv"))"
