@@ -17,7 +17,7 @@ std::vector<std::string> SimtexConfig::channel_names() const {
 }
 
 std::string SimtexConfig::describe() const {
-  return fmt::format("simtex model=3 shape={} classes={} groups={} recordings={} seconds={} sr={} seed={} "
+  return fmt::format("simtex model=4 shape={} classes={} groups={} recordings={} seconds={} sr={} seed={} "
                      "context_strength={} context_shift={} devices={} operators={}",
                      shape == SimtexShape::haptex ? "haptex" : "lmt108", classes, groups, recordings_per_class,
                      recording_seconds, sample_rate, seed, context_strength, to_string(context_shift), devices, operators);

@@ -2,6 +2,8 @@
 #include <cstdint>
 #include <random>
 
+#include "protocols/random_draws.h"
+
 namespace fscil::simtex_random {
 
 // splitmix64: derives independent generator seeds for each (purpose, a, b), so every draw of the
@@ -20,12 +22,10 @@ inline std::mt19937_64 generator(std::uint64_t seed, Purpose purpose, std::uint6
   return std::mt19937_64(mix(mix(mix(seed ^ purpose) + a) + b));
 }
 
-inline double uniform(std::mt19937_64& rng, double low, double high) {
-  return std::uniform_real_distribution<double>(low, high)(rng);
-}
-inline double normal(std::mt19937_64& rng) { return std::normal_distribution<double>(0.0, 1.0)(rng); }
-inline int pick(std::mt19937_64& rng, int count) {
-  return std::uniform_int_distribution<int>(0, count - 1)(rng);
-}
+// The simulator's draws, fixed algorithms (protocols/random_draws.h) so a seed gives the same data
+// on any standard library.
+inline double uniform(std::mt19937_64& rng, double low, double high) { return uniform_real(rng, low, high); }
+inline double normal(std::mt19937_64& rng) { return fscil::normal(rng, 0.0, 1.0); }
+inline int pick(std::mt19937_64& rng, int count) { return static_cast<int>(uniform_int(rng, 0, count - 1)); }
 
 }  // namespace fscil::simtex_random

@@ -141,7 +141,6 @@ Recording simulate_recording(const SimtexConfig& config, const SimtexMaterial& m
   recording.channels = channels;
   recording.length = length;
   recording.signal.resize(channels * length);
-  std::normal_distribution<double> noise(0.0, 1.0);
   for (int c = 0; c < channels; ++c) {
     auto& samples = signal[c];
     const bool resonates = config.shape == SimtexShape::lmt108 || c < 2;  // the force sensor and accelerometers ring
@@ -153,7 +152,7 @@ Recording simulate_recording(const SimtexConfig& config, const SimtexMaterial& m
     const double noise_scale = context.noise_floor * (std::sqrt(power / length) + 1e-6);
     const double gain = c < static_cast<int>(context.channel_gain.size()) ? context.channel_gain[c] : 1.0;
     for (std::int64_t n = 0; n < length; ++n) {
-      const double noisy = samples[n] + (noise_scale > 0 ? noise_scale * noise(rng) : 0.0);
+      const double noisy = samples[n] + (noise_scale > 0 ? noise_scale * normal(rng) : 0.0);
       recording.signal[c * length + n] = static_cast<float>(gain * noisy);
     }
   }

@@ -116,9 +116,9 @@ SimtexContext simtex_context(const SimtexConfig& config, int class_index, int re
   const double s = config.context_strength;
   auto rng = generator(config.seed, Purpose::recording_context, class_index, recording);
   const double switch_probability = std::min(1.0, 0.3 * s);
-  const bool other_operator = uniform(rng, 0, 1) < switch_probability;
+  const bool other_operator = bernoulli(rng, switch_probability);
   const int operator_choice = pick(rng, config.operators);
-  const bool other_device = uniform(rng, 0, 1) < switch_probability;
+  const bool other_device = bernoulli(rng, switch_probability);
   const int device_choice = pick(rng, open_devices);
 
   SimtexContext context;

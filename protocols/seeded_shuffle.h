@@ -4,6 +4,8 @@
 #include <utility>
 #include <vector>
 
+#include "protocols/random_draws.h"
+
 namespace fscil {
 
 // Each protocol draw gets its own stream derived from the run seed, so adding a draw in one
@@ -16,11 +18,13 @@ inline std::mt19937_64 seeded_generator(std::uint64_t seed, SeedPurpose purpose,
   return std::mt19937_64(sequence);
 }
 
-// Fisher-Yates with our own index draws: std::shuffle's draw pattern is not specified.
+// Fisher-Yates with our own index draws: std::shuffle's draw pattern is not specified. Each index
+// is the engine's output modulo i, drawn again in the rare case (probability < i / 2^64) that
+// would bias it.
 template <typename T>
 void shuffle_with(std::vector<T>& values, std::mt19937_64& generator) {
   for (std::size_t i = values.size(); i > 1; --i) {
-    const std::size_t j = generator() % i;
+    const std::size_t j = uniform_index(generator, i);
     std::swap(values[i - 1], values[j]);
   }
 }

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include "protocols/random_draws.h"
+
 namespace fscil {
 
 namespace {
@@ -11,8 +13,8 @@ torch::Tensor random_bands(std::int64_t n, std::int64_t length, double fraction,
   const auto widest = static_cast<std::int64_t>(fraction * static_cast<double>(length));
   std::vector<std::int64_t> starts(static_cast<std::size_t>(n), 0), ends(static_cast<std::size_t>(n), 0);
   for (std::size_t i = 0; i < starts.size(); ++i) {
-    const std::int64_t width = std::uniform_int_distribution<std::int64_t>(0, widest)(generator);
-    starts[i] = std::uniform_int_distribution<std::int64_t>(0, length - width)(generator);
+    const std::int64_t width = uniform_int(generator, 0, widest);
+    starts[i] = uniform_int(generator, 0, length - width);
     ends[i] = starts[i] + width;
   }
   const torch::Tensor position = torch::arange(length, torch::kLong).view({1, length});

@@ -4,24 +4,19 @@
 #include <cmath>
 #include <numeric>
 
+#include "protocols/random_draws.h"
 #include "protocols/seeded_shuffle.h"
 
 namespace fscil {
 
-double sample_beta(double a, double b, std::mt19937_64& generator) {
-  const double x = std::gamma_distribution<double>(a, 1.0)(generator);
-  const double y = std::gamma_distribution<double>(b, 1.0)(generator);
-  return x + y > 0 ? x / (x + y) : 0.5;
-}
-
 CutMixPlan plan_cutmix(std::int64_t batch, std::int64_t height, std::int64_t width, double alpha,
                        std::mt19937_64& generator) {
-  const double lambda = sample_beta(alpha, alpha, generator);
+  const double lambda = beta(generator, alpha, alpha);
   const double cut = std::sqrt(1.0 - lambda);
   const auto cut_h = static_cast<std::int64_t>(static_cast<double>(height) * cut);
   const auto cut_w = static_cast<std::int64_t>(static_cast<double>(width) * cut);
-  const std::int64_t centre_h = std::uniform_int_distribution<std::int64_t>(0, height - 1)(generator);
-  const std::int64_t centre_w = std::uniform_int_distribution<std::int64_t>(0, width - 1)(generator);
+  const std::int64_t centre_h = uniform_int(generator, 0, height - 1);
+  const std::int64_t centre_w = uniform_int(generator, 0, width - 1);
   CutMixPlan plan;
   plan.top = std::clamp(centre_h - cut_h / 2, std::int64_t{0}, height);
   plan.bottom = std::clamp(centre_h + cut_h / 2, std::int64_t{0}, height);

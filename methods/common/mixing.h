@@ -5,9 +5,6 @@
 
 namespace fscil {
 
-// A Beta(a, b) draw from the run's generator (as X / (X + Y), X ~ Gamma(a), Y ~ Gamma(b)).
-double sample_beta(double a, double b, std::mt19937_64& generator);
-
 // Where one CutMix pastes its box and which sample each box comes from: drawn once per batch,
 // applied wherever CutMix acts (on the input, or after the encoder's input norm as PITS-SC's
 // released code does).

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "methods/common/mixing.h"
+#include "protocols/random_draws.h"
 
 namespace fscil {
 
@@ -15,8 +15,7 @@ namespace {
 torch::Tensor uniform_draws(std::int64_t n, double range, std::mt19937_64& generator) {
   std::vector<float> values(static_cast<std::size_t>(n), 0.0f);
   if (range > 0) {
-    std::uniform_real_distribution<double> draw(-range, range);
-    for (auto& value : values) value = static_cast<float>(draw(generator));
+    for (auto& value : values) value = static_cast<float>(uniform_real(generator, -range, range));
   }
   return torch::tensor(values);
 }
@@ -50,8 +49,7 @@ torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& range
   const auto max_shift = static_cast<std::int64_t>(ranges.max_shift_fraction * static_cast<double>(frames));
   std::vector<std::int64_t> shifts(static_cast<std::size_t>(n), 0);
   if (max_shift > 0) {
-    std::uniform_int_distribution<std::int64_t> draw(-max_shift, max_shift);
-    for (auto& shift : shifts) shift = draw(generator);
+    for (auto& shift : shifts) shift = uniform_int(generator, -max_shift, max_shift);
   }
   const torch::Tensor perturbed =
       features + spread * (global + channel + tilt * tilt_profile + ranges.noise * noise);
@@ -93,9 +91,8 @@ torch::Tensor ContextStatisticBank::farthest_from(const torch::Tensor& statistic
 
 torch::Tensor ContextStatisticBank::random_entries(std::int64_t n, std::mt19937_64& generator) const {
   TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
-  std::uniform_int_distribution<std::int64_t> draw(0, count_ - 1);
   std::vector<std::int64_t> picked(static_cast<std::size_t>(n));
-  for (auto& index : picked) index = draw(generator);
+  for (auto& index : picked) index = uniform_int(generator, 0, count_ - 1);
   return stored().index_select(0, torch::tensor(picked));
 }
 
@@ -105,9 +102,8 @@ torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextSt
   const torch::Tensor own = channel_statistics(features);
   torch::Tensor reference;
   if (bank.size() == 0) {
-    std::uniform_int_distribution<std::int64_t> draw(0, n - 1);
     std::vector<std::int64_t> picked(static_cast<std::size_t>(n));
-    for (auto& index : picked) index = draw(generator);
+    for (auto& index : picked) index = uniform_int(generator, 0, n - 1);
     reference = own.index_select(0, torch::tensor(picked));
   } else {
     reference = settings.reference == ReferenceChoice::farthest
@@ -115,7 +111,7 @@ torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextSt
                     : bank.random_entries(n, generator);
   }
   std::vector<float> lambdas(static_cast<std::size_t>(n));
-  for (auto& lambda : lambdas) lambda = static_cast<float>(sample_beta(settings.mix_alpha, settings.mix_alpha, generator));
+  for (auto& lambda : lambdas) lambda = static_cast<float>(beta(generator, settings.mix_alpha, settings.mix_alpha));
   const torch::Tensor lambda = torch::tensor(lambdas).view({n, 1});
   const torch::Tensor mixed = lambda * own + (1 - lambda) * reference;
   const auto shape = std::vector<std::int64_t>{n, channels, 1, 1};

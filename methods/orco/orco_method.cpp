@@ -12,6 +12,7 @@
 #include "methods/common/module_state.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
+#include "protocols/random_draws.h"
 #include "protocols/seeded_shuffle.h"
 
 namespace fscil {
@@ -30,8 +31,8 @@ torch::Tensor pick_view_pairs(const torch::Tensor& views, std::mt19937_64& gener
   const std::int64_t n = views.size(0), v = views.size(1);
   std::vector<std::int64_t> first(static_cast<std::size_t>(n)), second(static_cast<std::size_t>(n));
   for (std::size_t i = 0; i < first.size(); ++i) {
-    first[i] = std::uniform_int_distribution<std::int64_t>(0, v - 1)(generator);
-    second[i] = (first[i] + std::uniform_int_distribution<std::int64_t>(1, v - 1)(generator)) % v;
+    first[i] = uniform_int(generator, 0, v - 1);
+    second[i] = (first[i] + uniform_int(generator, 1, v - 1)) % v;
   }
   const torch::Tensor index = torch::stack({torch::tensor(first), torch::tensor(second)}, 1);
   return views.gather(1, index.unsqueeze(2).expand({n, 2, views.size(2)}));

@@ -14,6 +14,7 @@
 #include "methods/common/supervised_training.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
+#include "protocols/random_draws.h"
 
 namespace fscil {
 
@@ -53,7 +54,6 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
   std::vector<torch::Tensor> parameters = network_parameters();
   parameters.push_back(classifier_->mu);
   const std::int64_t classes = context.base_classes;
-  std::bernoulli_distribution use_cutmix(settings_.p_cutmix);
   LossPartMeans means, epoch_means;
   const auto parts_of = [&](const TrainingEmbedding& embedded, torch::Tensor classification) {
     const LossParts parts{std::move(classification), embedded.side_loss};
@@ -62,7 +62,7 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
     return parts.total();
   };
   const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
-    if (!use_cutmix(context.generator)) {
+    if (!bernoulli(context.generator, settings_.p_cutmix)) {
       const TrainingEmbedding embedded =
           training_embedding(features, {}, pretraining_probe_rows(features.size(0), context), context);
       return parts_of(embedded, F::cross_entropy(classifier_->forward(embedded.embedding, classes, false), labels));

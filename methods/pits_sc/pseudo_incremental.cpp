@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "methods/common/mixing.h"
+#include "protocols/random_draws.h"
 #include "protocols/seeded_shuffle.h"
 
 namespace fscil {
@@ -51,8 +51,7 @@ std::vector<std::int64_t> PitEpisodeSampler::pick_samples(std::int64_t base_clas
     return pool;
   }
   std::vector<std::int64_t> picked(wanted);
-  std::uniform_int_distribution<std::size_t> any(0, pool.size() - 1);
-  for (auto& index : picked) index = pool[any(generator)];
+  for (auto& index : picked) index = pool[uniform_index(generator, pool.size())];
   return picked;
 }
 
@@ -72,7 +71,7 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
   episode.kept_features = base_.features.gather(kept);
   episode.kept_labels = base_.labels.index_select(0, kept);
 
-  episode.lambda = sample_beta(settings_.pit_alpha, settings_.pit_alpha, generator);
+  episode.lambda = beta(generator, settings_.pit_alpha, settings_.pit_alpha);
   std::vector<std::int64_t> first_index, second_index;
   for (int j = 0; j < shape_.pairs; ++j) {
     episode.first_class.push_back(classes[shape_.kept + j]);

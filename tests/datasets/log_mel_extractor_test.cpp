@@ -7,6 +7,7 @@
 #include <random>
 
 #include "datasets/dataset_error.h"
+#include "protocols/random_draws.h"
 
 namespace fscil {
 namespace {
@@ -65,13 +66,12 @@ std::vector<double> reference_log_mel(const std::vector<float>& x, const LogMelS
 
 // Broadband noise plus tones: every Mel band carries energy well above float rounding.
 std::vector<float> test_signal(std::int64_t length, double sample_rate, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<float> noise(0.0f, 0.3f);
+  std::mt19937_64 rng(seed);
   std::vector<float> x(length);
   for (std::int64_t i = 0; i < length; ++i) {
     const double t = i / sample_rate;
-    x[i] = static_cast<float>(std::sin(2 * M_PI * 0.05 * sample_rate * t) + 0.5 * std::sin(2 * M_PI * 0.21 * sample_rate * t)) +
-           noise(rng);
+    x[i] = static_cast<float>(std::sin(2 * M_PI * 0.05 * sample_rate * t) + 0.5 * std::sin(2 * M_PI * 0.21 * sample_rate * t) +
+                              normal(rng, 0.0, 0.3));
   }
   return x;
 }

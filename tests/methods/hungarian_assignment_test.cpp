@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "methods/common/hungarian_assignment.h"
+#include "protocols/random_draws.h"
 
 namespace fscil {
 namespace {
@@ -33,11 +34,12 @@ double brute_force_minimum(const Matrix& cost) {
 }
 
 Matrix random_matrix(std::size_t rows, std::size_t columns, std::mt19937_64& generator, bool integers) {
-  std::uniform_real_distribution<double> real(-5.0, 5.0);
-  std::uniform_int_distribution<int> small(0, 3);  // many ties
   Matrix cost(rows, std::vector<double>(columns));
   for (auto& row : cost) {
-    for (double& value : row) value = integers ? small(generator) : real(generator);
+    for (double& value : row) {
+      // Integers in [0, 3] give many ties.
+      value = integers ? static_cast<double>(uniform_int(generator, 0, 3)) : uniform_real(generator, -5.0, 5.0);
+    }
   }
   return cost;
 }

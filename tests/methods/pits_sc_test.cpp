@@ -59,13 +59,6 @@ TEST(CutMix, PastesOneBoxFromAPartnerAndReportsTheKeptArea) {
   }
 }
 
-TEST(BetaSampler, HasTheBetaDistributionsMean) {
-  std::mt19937_64 generator(9);
-  double sum = 0;
-  for (int i = 0; i < 20000; ++i) sum += sample_beta(0.8, 0.8 * 3, generator);  // mean 0.25
-  EXPECT_NEAR(sum / 20000, 0.25, 0.01);
-}
-
 TEST(PitEpisodeShape, IsPitsScsTwentyTenFiveAndShrinksForSmallProtocols) {
   const PitsScSettings settings;
   const PitEpisodeShape full = pit_episode_shape(settings, 60, 40);
