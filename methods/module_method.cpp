@@ -59,17 +59,9 @@ ModelCost ModuleMethod::inference_cost(const InputShape& input) const {
     named.module->eval();
   }
   auto& method = const_cast<ModuleMethod&>(*this);
-  const auto restore_modes = [&] {
-    for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i].module->train(training[i]);
-  };
-  try {
-    const ModelCost cost = traced_cost([&] { method.logits(sample); }, modules_);
-    restore_modes();
-    return cost;
-  } catch (...) {
-    restore_modes();
-    throw;
-  }
+  const ModelCost cost = traced_cost([&] { method.logits(sample); }, modules_);
+  for (std::size_t i = 0; i < modules_.size(); ++i) modules_[i].module->train(training[i]);
+  return cost;
 }
 
 }  // namespace fscil
