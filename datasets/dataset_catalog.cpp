@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/log_mel_extractor.h"
 #include "datasets/readers/audio_adapters.h"
 #include "datasets/readers/folder_adapter.h"
@@ -14,7 +14,7 @@
 #include "datasets/readers/scanned_recordings.h"
 #include "datasets/segment_cache.h"
 #include "datasets/simtex.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

@@ -5,8 +5,8 @@
 
 #include <functional>
 
-#include "datasets/dataset_error.h"
-#include "reports/atomic_file.h"
+#include "core/dataset_error.h"
+#include "core/atomic_file.h"
 
 namespace fscil {
 

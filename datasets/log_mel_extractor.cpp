@@ -9,8 +9,8 @@
 #include <mutex>
 #include <thread>
 
-#include "datasets/dataset_error.h"
-#include "datasets/parallel_for.h"
+#include "core/dataset_error.h"
+#include "core/parallel_for.h"
 
 namespace fscil {
 

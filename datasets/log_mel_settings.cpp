@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 
 namespace fscil {
 

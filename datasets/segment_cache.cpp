@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/hdf5_file.h"
 
 namespace fscil {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "datasets/prepared_dataset.h"
-#include "datasets/stable_hash.h"
+#include "core/stable_hash.h"
 
 namespace fscil {
 

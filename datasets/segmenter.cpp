@@ -7,7 +7,7 @@
 #include <limits>
 #include <set>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 
 namespace fscil {
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "datasets/parallel_for.h"
+#include "core/parallel_for.h"
 #include "datasets/simtex_random.h"
 
 namespace fscil {

@@ -2,7 +2,7 @@
 #include <cstdint>
 #include <random>
 
-#include "protocols/random_draws.h"
+#include "core/random_draws.h"
 
 namespace fscil::simtex_random {
 
@@ -22,7 +22,7 @@ inline std::mt19937_64 generator(std::uint64_t seed, Purpose purpose, std::uint6
   return std::mt19937_64(mix(mix(mix(seed ^ purpose) + a) + b));
 }
 
-// The simulator's draws, fixed algorithms (protocols/random_draws.h) so a seed gives the same data
+// The simulator's draws, fixed algorithms (core/random_draws.h) so a seed gives the same data
 // on any standard library.
 inline double uniform(std::mt19937_64& rng, double low, double high) { return uniform_real(rng, low, high); }
 inline double normal(std::mt19937_64& rng) { return fscil::normal(rng, 0.0, 1.0); }

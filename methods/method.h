@@ -13,10 +13,10 @@
 #include "methods/sample_rows.h"
 #include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
-#include "protocols/parameter_set.h"
-#include "protocols/progress_reporter.h"
-#include "protocols/stop_request.h"
-#include "protocols/session_outcome.h"
+#include "core/parameter_set.h"
+#include "core/progress_reporter.h"
+#include "core/stop_request.h"
+#include "metrics/session_outcome.h"
 
 namespace fscil {
 
@@ -80,7 +80,7 @@ struct RunContext {
   Stopwatch session_clock;  // restarted by the runner when a session begins
 
   // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, shows
-  // it as progress, and throws StopRequested when a stop was asked (protocols/stop_request.h).
+  // it as progress, and throws StopRequested when a stop was asked (core/stop_request.h).
   void log_epoch(const std::string& stage, int epoch, int epochs, std::map<std::string, double> values) {
     values["seconds"] = session_clock.seconds();
     if (progress != nullptr) progress->epoch(stage, epoch, epochs, values["loss"]);

@@ -1,6 +1,7 @@
 #pragma once
-#include <chrono>
 #include <cstdint>
+
+#include "core/stopwatch.h"
 
 namespace fscil {
 
@@ -23,15 +24,5 @@ void keep_freed_memory_for_reuse();
 // speed.
 void return_large_blocks_to_the_kernel();
 
-class Stopwatch {
- public:
-  Stopwatch() : start_(std::chrono::steady_clock::now()) {}
-  double seconds() const {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-
- private:
-  std::chrono::steady_clock::time_point start_;
-};
 
 }  // namespace fscil

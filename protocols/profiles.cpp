@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "protocols/parameter_set.h"
-#include "protocols/protocol_error.h"
+#include "core/parameter_set.h"
+#include "core/protocol_error.h"
 
 namespace fscil {
 

@@ -6,7 +6,7 @@
 
 #include "datasets/prepared_dataset.h"
 #include "methods/method.h"
-#include "protocols/session_outcome.h"
+#include "metrics/session_outcome.h"
 #include "protocols/session_schedule.h"
 
 namespace fscil {

@@ -7,10 +7,10 @@
 #include <fstream>
 #include <sstream>
 
-#include "datasets/stable_hash.h"
-#include "protocols/protocol_error.h"
-#include "protocols/shown_text.h"
-#include "reports/atomic_file.h"
+#include "core/stable_hash.h"
+#include "core/protocol_error.h"
+#include "core/shown_text.h"
+#include "core/atomic_file.h"
 
 namespace fscil {
 

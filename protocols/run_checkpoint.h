@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "methods/method.h"
-#include "protocols/session_outcome.h"
+#include "metrics/session_outcome.h"
 
 namespace fscil {
 

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <iterator>
 
-#include "protocols/protocol_error.h"
-#include "reports/atomic_file.h"
+#include "core/protocol_error.h"
+#include "core/atomic_file.h"
 
 namespace fscil {
 

@@ -4,9 +4,9 @@
 
 #include <numeric>
 
-#include "protocols/parameter_set.h"
-#include "protocols/protocol_error.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/parameter_set.h"
+#include "core/protocol_error.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

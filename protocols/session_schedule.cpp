@@ -7,8 +7,8 @@
 #include <functional>
 #include <map>
 
-#include "protocols/protocol_error.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/protocol_error.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "datasets/stable_hash.h"
-#include "protocols/protocol_error.h"
+#include "core/stable_hash.h"
+#include "core/protocol_error.h"
 
 namespace fscil {
 

@@ -6,7 +6,7 @@
 #include <set>
 #include <tuple>
 
-#include "reports/report_error.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "protocols/shown_text.h"
-#include "reports/report_error.h"
+#include "core/shown_text.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "protocols/shown_text.h"
-#include "reports/report_error.h"
+#include "core/shown_text.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

@@ -1,6 +1,6 @@
 #include "reports/figure_writer.h"
 
-#include "reports/atomic_file.h"
+#include "core/atomic_file.h"
 #include "reports/figure_csv.h"
 #include "reports/pgfplots_figure.h"
 #include "reports/svg_figure.h"

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "reports/report_error.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

@@ -4,9 +4,9 @@
 
 #include <sstream>
 
-#include "reports/text_file.h"
+#include "core/text_file.h"
 #include "reports/csv_fields.h"
-#include "reports/report_error.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

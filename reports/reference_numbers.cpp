@@ -11,10 +11,10 @@
 #include <set>
 
 #include "metrics/fscil_metrics.h"
-#include "protocols/shown_text.h"
+#include "core/shown_text.h"
 #include "reports/csv_fields.h"
-#include "reports/report_error.h"
-#include "reports/text_file.h"
+#include "core/report_error.h"
+#include "core/text_file.h"
 
 namespace fscil {
 

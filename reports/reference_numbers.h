@@ -17,7 +17,7 @@ struct ReferenceValue {
   std::string profile;
   std::uint64_t seed = 0;
   int threads = 0;
-  // The kernels the value was made with (numeric_kernels(), tools/machine_info.h); empty in
+  // The kernels the value was made with (numeric_kernels(), tools/fscil-bench/options/machine_info.h); empty in
   // files written before they were recorded, which compare with runs on any kernels.
   std::string kernels;
   std::string metric;

@@ -9,10 +9,10 @@
 #include <map>
 #include <vector>
 
-#include "reports/atomic_file.h"
+#include "core/atomic_file.h"
 #include "reports/csv_fields.h"
-#include "reports/report_error.h"
-#include "reports/text_file.h"
+#include "core/report_error.h"
+#include "core/text_file.h"
 #include "reports/xml_text.h"
 
 namespace fscil {

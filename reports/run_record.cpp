@@ -8,11 +8,11 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
-#include "protocols/shown_text.h"
-#include "reports/atomic_file.h"
+#include "core/shown_text.h"
+#include "core/atomic_file.h"
 #include "reports/comparable_runs.h"
-#include "reports/text_file.h"
-#include "reports/report_error.h"
+#include "core/text_file.h"
+#include "core/report_error.h"
 
 namespace fscil {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "metrics/session_accuracy.h"
-#include "protocols/session_outcome.h"
+#include "metrics/session_outcome.h"
 
 namespace fscil {
 

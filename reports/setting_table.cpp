@@ -8,8 +8,8 @@
 #include "reports/csv_fields.h"
 #include "reports/latex_text.h"
 #include "reports/paper_comparison.h"
-#include "reports/report_error.h"
-#include "reports/text_file.h"
+#include "core/report_error.h"
+#include "core/text_file.h"
 
 namespace fscil {
 

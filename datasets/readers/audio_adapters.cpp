@@ -6,11 +6,11 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
-#include "protocols/shown_text.h"
+#include "core/shown_text.h"
 
 namespace fscil {
 

@@ -9,11 +9,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
-#include "protocols/shown_text.h"
-#include "protocols/valid_range.h"
+#include "core/shown_text.h"
+#include "core/valid_range.h"
 
 namespace fscil {
 

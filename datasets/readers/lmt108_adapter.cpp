@@ -6,10 +6,10 @@
 #include <regex>
 #include <tuple>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

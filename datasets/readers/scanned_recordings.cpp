@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <chrono>
 
-#include "datasets/dataset_error.h"
-#include "datasets/parallel_for.h"
+#include "core/dataset_error.h"
+#include "core/parallel_for.h"
 #include "datasets/segment_cache.h"
 
 namespace fscil {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <fstream>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/regular_file.h"
-#include "protocols/shown_text.h"
+#include "core/shown_text.h"
 
 namespace fscil {
 

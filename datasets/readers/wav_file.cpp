@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/regular_file.h"
 
 namespace fscil {

@@ -1,7 +1,7 @@
 // fscil-bench's whole command line with one more method: `my-bench list` shows it, and
 // --methods small-cnn-ncm,prototype runs it beside the built-in ones.
 #include <methods/method_registry.h>
-#include <tools/command_line.h>
+#include <tools/fscil-bench/command_line.h>
 
 #include "small_cnn_ncm_method.h"
 

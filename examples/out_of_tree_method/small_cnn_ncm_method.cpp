@@ -1,6 +1,6 @@
 #include "small_cnn_ncm_method.h"
 
-#include <protocols/valid_range.h>
+#include <core/valid_range.h>
 
 #include <algorithm>
 

@@ -2,7 +2,7 @@
 
 #include <vector>
 
-#include "protocols/random_draws.h"
+#include "core/random_draws.h"
 
 namespace fscil {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numeric>
 
-#include "protocols/random_draws.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/random_draws.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "protocols/seeded_shuffle.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

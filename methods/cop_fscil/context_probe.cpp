@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "protocols/random_draws.h"
+#include "core/random_draws.h"
 
 namespace fscil {
 

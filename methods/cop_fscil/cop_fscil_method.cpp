@@ -10,7 +10,7 @@
 #include "methods/common/torch_random_state.h"
 #include "methods/cop_fscil/stability_calibration.h"
 #include "methods/pits_sc/session_finetune.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "methods/method.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

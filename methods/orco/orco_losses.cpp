@@ -4,7 +4,7 @@
 
 #include <vector>
 
-#include "protocols/seeded_shuffle.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -12,8 +12,8 @@
 #include "methods/common/module_state.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
-#include "protocols/random_draws.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/random_draws.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

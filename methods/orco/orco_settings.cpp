@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

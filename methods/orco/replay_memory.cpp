@@ -5,7 +5,7 @@
 #include <map>
 #include <vector>
 
-#include "protocols/seeded_shuffle.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -14,7 +14,7 @@
 #include "methods/common/supervised_training.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
-#include "protocols/random_draws.h"
+#include "core/random_draws.h"
 
 namespace fscil {
 

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <numeric>
 
-#include "protocols/random_draws.h"
-#include "protocols/seeded_shuffle.h"
+#include "core/random_draws.h"
+#include "core/seeded_shuffle.h"
 
 namespace fscil {
 

@@ -10,7 +10,7 @@
 #include <chrono>
 
 #include "methods/cop_fscil/cop_fscil_method.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace {
 

@@ -6,7 +6,7 @@
 
 #include "datasets/dataset_catalog.h"
 #include "datasets/simtex.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace {
 

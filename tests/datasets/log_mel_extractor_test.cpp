@@ -6,8 +6,8 @@
 #include <complex>
 #include <random>
 
-#include "datasets/dataset_error.h"
-#include "protocols/random_draws.h"
+#include "core/dataset_error.h"
+#include "core/random_draws.h"
 
 namespace fscil {
 namespace {

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "datasets/dataset_catalog.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 
 namespace fscil {
 

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "datasets/dataset_error.h"
-#include "protocols/parameter_set.h"
+#include "core/dataset_error.h"
+#include "core/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/datasets/prepare_from_root.h"
 #include "tests/temporary_directory.h"

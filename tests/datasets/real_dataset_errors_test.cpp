@@ -7,11 +7,11 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
 #include "datasets/segment_cache.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/datasets/prepare_from_root.h"
 #include "tests/temporary_directory.h"

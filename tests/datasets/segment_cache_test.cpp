@@ -7,10 +7,10 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 #include "datasets/hdf5_file.h"
 #include "datasets/log_mel_extractor.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {

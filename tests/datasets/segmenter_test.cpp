@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "datasets/dataset_error.h"
+#include "core/dataset_error.h"
 
 namespace fscil {
 namespace {

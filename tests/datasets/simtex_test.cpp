@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "datasets/segmenter.h"
-#include "datasets/stable_hash.h"
+#include "core/stable_hash.h"
 
 namespace fscil {
 namespace {

@@ -17,8 +17,8 @@
 #include <cstring>
 #include <sstream>
 
-#include "datasets/stable_hash.h"
-#include "protocols/protocol_error.h"
+#include "core/stable_hash.h"
+#include "core/protocol_error.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/fuzz_torch_setup.h"

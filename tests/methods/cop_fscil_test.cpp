@@ -11,7 +11,7 @@
 #include "methods/cop_fscil/stability_calibration.h"
 #include "methods/method_registry.h"
 #include "methods/pits_sc/pseudo_incremental.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "methods/common/hungarian_assignment.h"
-#include "protocols/random_draws.h"
+#include "core/random_draws.h"
 
 namespace fscil {
 namespace {

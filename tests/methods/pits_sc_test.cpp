@@ -7,7 +7,7 @@
 #include "methods/common/stochastic_classifier.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/pits_sc/pseudo_incremental.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {

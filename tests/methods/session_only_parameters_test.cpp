@@ -7,7 +7,7 @@
 
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
-#include "protocols/parameter_set.h"
+#include "core/parameter_set.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {

@@ -9,8 +9,8 @@
 #include <optional>
 #include <sstream>
 
-#include "datasets/stable_hash.h"
-#include "protocols/protocol_error.h"
+#include "core/stable_hash.h"
+#include "core/protocol_error.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 

@@ -8,8 +8,8 @@
 #include <map>
 #include <set>
 
-#include "protocols/parameter_set.h"
-#include "protocols/protocol_error.h"
+#include "core/parameter_set.h"
+#include "core/protocol_error.h"
 
 namespace fscil {
 namespace {

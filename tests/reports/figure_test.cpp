@@ -7,16 +7,16 @@
 #include <limits>
 #include <set>
 
-#include "reports/atomic_file.h"
+#include "core/atomic_file.h"
 #include "reports/axis_ticks.h"
 #include "reports/csv_fields.h"
 #include "reports/figure_csv.h"
 #include "reports/figure_style.h"
 #include "reports/figure_writer.h"
 #include "reports/pgfplots_figure.h"
-#include "reports/report_error.h"
+#include "core/report_error.h"
 #include "reports/svg_figure.h"
-#include "reports/text_file.h"
+#include "core/text_file.h"
 #include "tests/reports/markup_checks.h"
 #include "tests/temporary_directory.h"
 

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <functional>
 
-#include "reports/atomic_file.h"
-#include "reports/report_error.h"
+#include "core/atomic_file.h"
+#include "core/report_error.h"
 #include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 

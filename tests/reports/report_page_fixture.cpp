@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <limits>
 
-#include "reports/atomic_file.h"
+#include "core/atomic_file.h"
 #include "reports/figure_writer.h"
 #include "reports/report_page.h"
 

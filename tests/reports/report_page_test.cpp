@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <string>
 
-#include "reports/atomic_file.h"
+#include "core/atomic_file.h"
 #include "reports/figure_writer.h"
-#include "reports/report_error.h"
-#include "reports/text_file.h"
+#include "core/report_error.h"
+#include "core/text_file.h"
 #include "tests/reports/markup_checks.h"
 #include "tests/temporary_directory.h"
 

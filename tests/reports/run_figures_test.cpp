@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 
-#include "reports/report_error.h"
+#include "core/report_error.h"
 #include "tests/reports/session_runs.h"
 
 namespace fscil {

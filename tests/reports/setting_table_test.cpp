@@ -6,7 +6,7 @@
 #include <fstream>
 #include <limits>
 
-#include "reports/report_error.h"
+#include "core/report_error.h"
 #include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 

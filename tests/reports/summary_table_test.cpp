@@ -6,7 +6,7 @@
 #include <fstream>
 #include <map>
 
-#include "reports/report_error.h"
+#include "core/report_error.h"
 #include "reports/run_record.h"
 #include "tests/temporary_directory.h"
 

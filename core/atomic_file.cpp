@@ -1,0 +1,106 @@
+#include "core/atomic_file.h"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <string_view>
+
+namespace fscil {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string host_name() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof(name) - 1) != 0) return "host";
+  std::string host(name);
+  for (char& c : host) {
+    if (c == '.' || c == '/') c = '_';
+  }
+  return host;
+}
+
+// "<file>.tmp-<host>-<pid>": the host keeps processes of other machines sharing the folder (a
+// cluster's file system) out of the clean-up below.
+std::string temporary_marker() { return fmt::format(".tmp-{}-", host_name()); }
+
+bool process_is_gone(const std::string& digits) {
+  if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
+  const auto pid = static_cast<pid_t>(std::stol(digits));
+  return pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+void remove_stale_temporaries(const fs::path& folder) {
+  const std::string marker = temporary_marker();
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error)) {
+    const std::string name = entry->path().filename().string();
+    const auto at = name.rfind(marker);
+    if (at == std::string::npos || !process_is_gone(name.substr(at + marker.size()))) continue;
+    std::error_code ignored;
+    fs::remove(entry->path(), ignored);
+  }
+}
+
+std::string system_message() { return std::strerror(errno); }
+
+void sync_file(const fs::path& path, int flags) {
+  const int fd = ::open(path.c_str(), flags | O_CLOEXEC);
+  if (fd < 0) throw FileError(fmt::format("{}: cannot open to sync ({})", path.string(), system_message()));
+  const bool synced = ::fsync(fd) == 0;
+  const std::string reason = synced ? "" : system_message();
+  ::close(fd);
+  if (!synced) throw FileError(fmt::format("{}: cannot sync to disk ({})", path.string(), reason));
+}
+
+void write_all(const fs::path& path, std::string_view content) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw FileError(fmt::format("{}: cannot create ({})", path.string(), system_message()));
+  while (!content.empty()) {
+    const ssize_t written = ::write(fd, content.data(), content.size());
+    if (written < 0 && errno == EINTR) continue;
+    if (written <= 0) {
+      const std::string reason = written < 0 ? system_message() : "nothing written";
+      ::close(fd);
+      throw FileError(fmt::format("{}: cannot write ({})", path.string(), reason));
+    }
+    content.remove_prefix(static_cast<std::size_t>(written));
+  }
+  if (::close(fd) != 0) throw FileError(fmt::format("{}: cannot write ({})", path.string(), system_message()));
+}
+
+}  // namespace
+
+void replace_file_atomically(const fs::path& path, const std::function<void(const fs::path& temporary)>& write) {
+  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code error;
+  fs::create_directories(folder, error);
+  if (error) throw FileError(fmt::format("{}: cannot create its folder ({})", path.string(), error.message()));
+  if (fs::is_directory(path, error)) throw FileError(fmt::format("{}: is a directory, a file was expected", path.string()));
+  remove_stale_temporaries(folder);
+  const fs::path temporary = path.string() + temporary_marker() + std::to_string(::getpid());
+  try {
+    write(temporary);
+    sync_file(temporary, O_RDONLY);
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
+      throw FileError(fmt::format("{}: cannot replace ({})", path.string(), system_message()));
+    }
+  } catch (...) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw;
+  }
+  sync_file(folder, O_RDONLY | O_DIRECTORY);
+}
+
+void write_file_atomically(const fs::path& path, const std::string& content) {
+  replace_file_atomically(path, [&](const fs::path& temporary) { write_all(temporary, content); });
+}
+
+}  // namespace fscil

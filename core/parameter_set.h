@@ -1,0 +1,51 @@
+#pragma once
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/valid_range.h"
+
+namespace fscil {
+
+// Named hyper-parameters and knobs as text, layered (profile, then --set) and read with a default.
+// Every read is remembered, so a result file can hold every value a run used and the CLI can
+// reject a --set key that nothing reads.
+class ParameterSet {
+ public:
+  void set(const std::string& key, const std::string& value);
+  // A value a profile or dataset supplies for whichever method reads it: unlike set(), it is not
+  // reported by unread_keys() when nothing reads it. A later set() makes it explicit.
+  void set_default(const std::string& key, const std::string& value);
+  // Parses "key=value"; throws ProtocolError naming the text when malformed.
+  void set_assignment(const std::string& assignment);
+  bool contains(const std::string& key) const;
+
+  // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key.
+  double real(const std::string& key, double fallback, const ValidRange& valid) const;
+  std::int64_t integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const;
+  bool flag(const std::string& key, bool fallback) const;
+  std::string text(const std::string& key, const std::string& fallback) const;
+  // text() restricted to a list of allowed values.
+  std::string choice(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& allowed) const;
+
+  // Values of every key read so far, as used (defaults included).
+  const std::map<std::string, std::string>& used() const { return used_; }
+  // Keys set explicitly that no reader asked for.
+  std::vector<std::string> unread_keys() const;
+  // Marks keys read in another copy as read here too (used when each method reads its own copy).
+  void mark_read(const std::set<std::string>& keys);
+  std::set<std::string> read_keys() const;
+
+ private:
+  const std::string* lookup(const std::string& key) const;
+  void remember(const std::string& key, const std::string& value) const;
+
+  std::map<std::string, std::string> values_;
+  std::set<std::string> defaults_;  // keys whose value came from set_default()
+  mutable std::map<std::string, std::string> used_;
+};
+
+}  // namespace fscil

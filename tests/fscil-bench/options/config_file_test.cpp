@@ -1,0 +1,76 @@
+#include "tools/fscil-bench/options/config_file.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <set>
+
+#include "tests/temporary_directory.h"
+#include "tools/fscil-bench/options/cli_error.h"
+
+namespace fscil {
+namespace {
+
+using Words = std::vector<std::string>;
+
+bool run_option(const std::string& name) {
+  static const std::set<std::string> options = {"--methods", "--dataset", "--seeds", "--threads", "--save-model",
+                                                "--quiet", "--set", "--profile", "--config"};
+  return options.count(name) > 0;
+}
+
+std::filesystem::path write(const TemporaryDirectory& directory, const std::string& text) {
+  const auto path = directory.path() / "run.json";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
+  TemporaryDirectory directory;
+  const auto file = write(directory, R"({"methods": "prototype", "seeds": "1-2", "threads": 2, "save-model": true,
+    "quiet": false, "set": {"shot": 3, "pic_weight": 0.1}, "grid": {"pspc_probes": [5, 50], "shot": [1]}})");
+  const Words command_line = {"fscil-bench", "sweep", "--seeds", "3", "--set", "shot=5", "--config", file.string()};
+  const Words expected = {"fscil-bench", "--methods", "prototype", "--threads", "2", "--save-model", "--set", "shot=3",
+                          "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=1",
+                          "--seeds", "3", "--set", "shot=5", "--config", file.string()};
+  EXPECT_EQ(with_config_file(command_line, file, run_option), expected);
+  EXPECT_EQ(config_file_of(command_line), file.string());
+  // An axis the command line sweeps replaces the file's axis and its fixed value.
+  const Words sweeps_shot = {"fscil-bench", "sweep", "--grid", "shot=2,4"};
+  const Words without_shot = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2", "--save-model",
+                              "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=2,4"};
+  EXPECT_EQ(with_config_file(sweeps_shot, file, run_option), without_shot);
+  const auto flags = write(directory, R"({"set": {"use_cutmix": true, "temperature": 16}})");
+  EXPECT_EQ(config_settings(flags), (std::vector<std::pair<std::string, std::string>>{{"use_cutmix", "true"},
+                                                                                      {"temperature", "16"}}));
+  EXPECT_EQ(config_file_of({"fscil-bench", "--config=a.json"}), "a.json");
+  EXPECT_EQ(config_file_of({"fscil-bench", "list"}), "");
+}
+
+TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
+  TemporaryDirectory directory;
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"{\"methods\": ", "not JSON"},
+      {"[1, 2]", "expected a JSON object of run options"},
+      {"{\"method\": \"prototype\"}", "\"method\": not a run option"},
+      {"{\"config\": \"other.json\"}", "\"config\": not a run option"},
+      {"{\"methods\": [\"prototype\"]}", "\"methods\": expected a string, a number or true/false"},
+      {"{\"set\": [\"shot=3\"]}", "\"set\": expected an object of keys and values"},
+      {"{\"grid\": {\"shot\": 3}}", "\"grid\".shot: expected a list of values"},
+      {"{\"grid\": {\"shot\": [1, 5]}}", "\"grid\" needs the sweep, plan, run-cells or slurm subcommand"},
+  };
+  for (const auto& [text, message] : bad) {
+    const auto file = write(directory, text);
+    try {
+      with_config_file({"fscil-bench"}, file, run_option);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const CliError& error) {
+      EXPECT_NE(std::string(error.what()).find("--config " + file.string() + ": "), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(message), std::string::npos) << error.what();
+    }
+  }
+  EXPECT_THROW(with_config_file({"fscil-bench"}, directory.path() / "missing.json", run_option), CliError);
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,161 @@
+#include "tools/fscil-bench/cells/bench_cells.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <tuple>
+
+#include "methods/method.h"
+#include "methods/method_registry.h"
+#include "core/parameter_set.h"
+#include "protocols/profiles.h"
+#include "reports/run_record.h"
+#include "tools/fscil-bench/options/cli_error.h"
+#include "tools/fscil-bench/options/dataset_defaults.h"
+#include "tools/fscil-bench/cells/out_folder_lock.h"
+#include "tools/fscil-bench/commands/report_writer.h"
+#include "tools/fscil-bench/options/seed_list.h"
+#include "tools/fscil-bench/commands/sweep_command.h"
+#include "tools/fscil-bench/options/sweep_grid.h"
+
+namespace fscil {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The methods of a command grouped by the base session they share (Method::shared_base_key), in
+// the order --methods names them; with the epochs of that base.
+struct MethodGroup {
+  std::vector<std::string> methods;
+  std::int64_t epochs = 0;
+};
+
+// The base session's epochs, which dominate a run's cost (sessions train on a few shots).
+std::int64_t base_epochs(const ParameterSet& read) {
+  std::int64_t epochs = 0;
+  for (const char* key : {"pretrain_epochs", "pit_epochs", "orco_base_epochs"}) {
+    if (const auto found = read.used().find(key); found != read.used().end()) {
+      epochs += std::strtoll(found->second.c_str(), nullptr, 10);
+    }
+  }
+  return epochs;
+}
+
+std::vector<MethodGroup> method_groups(const RunOptions& options) {
+  ParameterSet params;
+  apply_dataset_defaults(options.dataset, params);
+  apply_profile(options.profile, params);
+  for (const auto& assignment : options.assignments) params.set_assignment(assignment);
+  std::vector<MethodGroup> groups;
+  std::vector<std::string> keys;
+  for (const auto& name : resolve_method_names(options.methods)) {
+    ParameterSet read = params;
+    const std::string key = create_method(name, read)->shared_base_key();
+    const auto same = key.empty() ? keys.end() : std::find(keys.begin(), keys.end(), key);
+    if (same == keys.end()) {
+      groups.push_back({{name}, base_epochs(read)});
+      keys.push_back(key);
+    } else {
+      auto& group = groups[static_cast<std::size_t>(same - keys.begin())];
+      group.methods.push_back(name);
+    }
+  }
+  return groups;
+}
+
+}  // namespace
+
+std::string BenchCell::cost_class() const {
+  if (epochs <= 12) return "small";
+  if (epochs <= 60) return "medium";
+  return "large";
+}
+
+std::vector<BenchCell> plan_cells(const RunOptions& options, const std::vector<std::string>& grid) {
+  if (options.methods.empty() || options.dataset.empty()) throw CliError("--methods and --dataset are required");
+  std::vector<std::map<std::string, std::string>> grid_cells_of_command = {{}};
+  if (!grid.empty()) grid_cells_of_command = grid_cells(parse_grid(grid));
+  const auto seeds = parse_seed_list(options.seeds);
+  std::vector<BenchCell> cells;
+  for (const auto& grid_cell : grid_cells_of_command) {
+    const RunOptions run = grid.empty() ? options : sweep_cell_options(options, grid_cell);
+    for (const auto& group : method_groups(run)) {
+      for (std::uint64_t seed : seeds) {
+        cells.push_back({static_cast<int>(cells.size()), group.methods, options.dataset, grid_cell, seed, group.epochs});
+      }
+    }
+  }
+  return cells;
+}
+
+RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell) {
+  RunOptions run = cell.grid.empty() ? options : sweep_cell_options(options, cell.grid);
+  run.methods = fmt::format("{}", fmt::join(cell.methods, ","));
+  run.seeds = std::to_string(cell.seed);
+  run.cell = cell.index;
+  run.resume = fs::is_directory(run.out);  // a requeued or repeated cell continues
+  return run;
+}
+
+bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
+  const RunOptions run = cell_run_options(options, cell);
+  return std::all_of(cell.methods.begin(), cell.methods.end(), [&](const std::string& method) {
+    RunRecord name;
+    name.method = method;
+    name.dataset = cell.dataset;
+    name.seed = cell.seed;
+    return fs::exists(fs::path(run.out) / "results" / run_record_file_name(name));
+  });
+}
+
+std::string render_plan(const std::vector<BenchCell>& cells) {
+  std::string text = fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {}\n", "cell", "methods", "dataset", "grid",
+                                 "seed", "cost");
+  for (const auto& cell : cells) {
+    text += fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {} ({} base epochs)\n", cell.index,
+                        fmt::format("{}", fmt::join(cell.methods, ",")), cell.dataset,
+                        cell.grid.empty() ? "-" : grid_cell_name(cell.grid), cell.seed, cell.cost_class(), cell.epochs);
+  }
+  return text + fmt::format("{} cells; run one with --cell K, all with run-cells --jobs J or fscil-bench slurm\n",
+                            cells.size());
+}
+
+std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index) {
+  const auto cells = plan_cells(options, grid);
+  if (index < 0 || index >= static_cast<int>(cells.size())) {
+    throw CliError(fmt::format("--cell {}: this command has {} cells, 0 to {} (see: fscil-bench plan)", index,
+                               cells.size(), cells.size() - 1));
+  }
+  const RunOptions run = cell_run_options(options, cells[static_cast<std::size_t>(index)]);
+  if (grid.empty()) return run_benchmark(run);
+  const OutFolderLock sweep_folder = OutFolderLock::shared(options.out);  // no whole-sweep command meanwhile
+  return run_benchmark(run);
+}
+
+std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
+                                            const std::vector<std::string>& grid) {
+  std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
+  if (methods.empty()) return records;
+  const std::vector<std::string> order = resolve_method_names(methods);
+  std::vector<std::string> cells;  // as load_sweep_records ordered them
+  for (const auto& record : records) {
+    if (std::find(cells.begin(), cells.end(), grid_cell_name(record.grid)) == cells.end()) {
+      cells.push_back(grid_cell_name(record.grid));
+    }
+  }
+  const auto position = [&](const RunRecord& record) {
+    return std::make_tuple(std::find(cells.begin(), cells.end(), grid_cell_name(record.grid)) - cells.begin(),
+                           std::find(order.begin(), order.end(), record.method) - order.begin(), record.seed);
+  };
+  std::stable_sort(records.begin(), records.end(),
+                   [&](const RunRecord& a, const RunRecord& b) { return position(a) < position(b); });
+  return records;
+}
+
+std::string write_command_tables(const RunOptions& options, const std::vector<std::string>& grid) {
+  return write_reports(options.out, load_command_records(options.out, options.methods, grid));
+}
+
+}  // namespace fscil

@@ -1,0 +1,57 @@
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "reports/run_record.h"
+#include "tools/fscil-bench/commands/run_command.h"
+
+namespace fscil {
+
+// One independent unit of a run or sweep command: the methods that share one base session (the
+// cop-fscil variants with the same base key stay together so that base is trained once), on one
+// dataset, one grid cell and one seed. Cells are what `--cell K`, `run-cells` and a Slurm array
+// task run; their result files together are the command's.
+struct BenchCell {
+  int index = 0;
+  std::vector<std::string> methods;
+  std::string dataset;
+  std::map<std::string, std::string> grid;  // empty for a run command
+  std::uint64_t seed = 0;
+  // Epochs of the base session the cell trains (pretraining, pseudo-incremental, OrCo's base),
+  // which dominate its cost: a rough size, not a time.
+  std::int64_t epochs = 0;
+  std::string cost_class() const;  // small (up to 12) | medium (up to 60) | large
+};
+
+// The cells of the command `options` describes (`grid`: the --grid texts of a sweep, empty for a
+// run), in a fixed order: grid cell (as the sweep runs them), then method group (as --methods
+// names them), then seed. Throws on what the command itself would refuse (unknown method, bad
+// seeds or grid).
+std::vector<BenchCell> plan_cells(const RunOptions& options, const std::vector<std::string>& grid);
+
+// The run command of one cell: its methods and seed only, in its grid cell's folder, continuing
+// what that folder holds of it.
+RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell);
+
+// Whether every run of the cell has its result file.
+bool cell_has_results(const RunOptions& options, const BenchCell& cell);
+
+// `fscil-bench plan`: one line per cell (index, methods, dataset, grid cell, seed, cost class).
+std::string render_plan(const std::vector<BenchCell>& cells);
+
+// `--cell K`: runs cell K of the command and writes its result files (no tables); CliError when
+// the command has no cell K.
+std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index);
+
+// The result files below `results` ordered as the command runs them: grid cells as `grid` gives
+// them, then methods as `methods` names them (empty: by file name), then seeds in number order;
+// so tables merged from cells read as the command's own.
+std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
+                                            const std::vector<std::string>& grid);
+
+// The command's tables over every cell's result files in --out; returns the Markdown.
+std::string write_command_tables(const RunOptions& options, const std::vector<std::string>& grid);
+
+}  // namespace fscil

@@ -1,0 +1,34 @@
+#include "tools/fscil-bench/commands/reference_command.h"
+
+#include <fmt/format.h>
+
+#include "core/atomic_file.h"
+#include "reports/reference_numbers.h"
+#include "core/report_error.h"
+#include "reports/run_record.h"
+
+namespace fscil {
+
+void write_reference(const std::string& results, const std::string& out, double tolerance) {
+  if (!(tolerance >= 0)) throw ReportError(fmt::format("--tolerance {}: expected a value >= 0", tolerance));
+  const auto records = load_run_records(results);
+  if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));
+  const auto values = reference_values_of(records, tolerance);
+  write_file_atomically(out, render_reference_csv(values, kRegenerateReferences));
+  fmt::print("{} reference values of {} runs written to {}\n", values.size(), records.size(), out);
+}
+
+int check_reference(const std::string& results, const std::string& reference) {
+  const auto expected = load_reference_csv(reference);
+  const ReferenceCheck check = check_against_reference(load_run_records(results), expected);
+  for (const auto& failure : check.failures) fmt::print("FAIL {}\n", failure);
+  if (check.failures.empty()) {
+    fmt::print("all {} reference values of {} hold in {}\n", check.values_checked, reference, results);
+    return 0;
+  }
+  fmt::print("{} failures, {} of {} reference values compared; if a changed value is intended, regenerate with: {}\n",
+             check.failures.size(), check.values_checked, expected.size(), kRegenerateReferences);
+  return 1;
+}
+
+}  // namespace fscil

@@ -1,0 +1,54 @@
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+namespace fscil {
+
+struct RunOptions {
+  std::string methods;
+  std::string dataset;
+  std::string profile = "fast";
+  std::string seeds = "1";
+  int threads = 0;  // 0 = every hardware thread
+  std::string out = "results";
+  bool resume = false;  // continue the run whose --out this is: keep finished runs, continue checkpoints
+  std::string data_root;
+  std::string cache_dir;  // empty = the user cache directory
+  bool no_cache = false;        // neither cache: segments nor trained base sessions
+  bool no_stage_cache = false;  // train every base session here (protocols/stage_cache.h)
+  std::string features = "auto";  // auto | memory | on-demand (datasets/dataset_catalog.h)
+  std::string split_mode = "recording";
+  std::string class_order = "natural";
+  std::string evaluate_on = "test";  // test | validation: the split every session is scored on
+  // last | validation | test-oracle: how epochs are chosen where a reference code chooses them
+  // (methods/method.h EpochSelection); test-oracle reproduces their habit of choosing on test.
+  std::string selection = "last";
+  // The sweep cell this command runs (fscil-bench sweep): recorded in every result.
+  std::map<std::string, std::string> grid;
+  // --save-embeddings: "" (none), "last", "all" or session numbers "0,9": the scored test
+  // embeddings of those sessions go to OUT/embeddings/RUN.h5 (sessions: the saved session numbers;
+  // session_S_embeddings N x D, session_S_labels; base_classes).
+  std::string save_embeddings;
+  // --save-model: each run's final method state in OUT/models/RUN.pt, a dict of named tensors for
+  // Python's torch.load (protocols/saved_model.h).
+  bool save_model = false;
+  std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
+  std::vector<std::string> assignments;  // --set key=value
+  bool quiet = false;
+  // --cell K (tools/fscil-bench/cells/bench_cells.h): this command is cell K of a plan, narrowed to its methods and
+  // seed. It holds only that cell of --out, continues what --out holds of it, writes result files
+  // and no tables (fscil-bench report merges them). -1: a whole command.
+  int cell = -1;
+};
+
+// The main job: every method x seed through the protocol, one result file per run written as
+// soon as it finishes, then summary.csv, results.tex and the rest; returns the Markdown tables
+// (for a cell: where its result files are). Throws StopRequested after SIGTERM, its finished
+// sessions kept in checkpoints.
+std::string run_benchmark(const RunOptions& options);
+
+// Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.
+int configure_threads(int requested);
+
+}  // namespace fscil

@@ -1,0 +1,163 @@
+#include "tools/fscil-bench/commands/slurm_command.h"
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "core/atomic_file.h"
+#include "tools/fscil-bench/cells/bench_cells.h"
+#include "tools/fscil-bench/options/cli_error.h"
+#include "tools/fscil-bench/cells/command_arguments.h"
+
+namespace fscil {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The #SBATCH lines both scripts share.
+std::string common_lines(const SlurmOptions& slurm) {
+  std::string lines;
+  if (!slurm.partition.empty()) lines += fmt::format("#SBATCH --partition={}\n", slurm.partition);
+  if (!slurm.time.empty()) lines += fmt::format("#SBATCH --time={}\n", slurm.time);
+  if (!slurm.mem.empty()) lines += fmt::format("#SBATCH --mem={}\n", slurm.mem);
+  for (const auto& argument : slurm.sbatch_arguments) lines += fmt::format("#SBATCH {}\n", argument);
+  return lines;
+}
+
+std::string array_script(const std::string& command, const std::string& range, int cpus, const fs::path& logs,
+                         const fs::path& workdir, const SlurmOptions& slurm) {
+  return fmt::format(
+      "#!/bin/bash\n"
+      "# One task per cell of the command (fscil-bench plan lists them). Written by fscil-bench slurm.\n"
+      "#SBATCH --job-name=fscil-bench\n"
+      "#SBATCH --array={range}\n"
+      "#SBATCH --cpus-per-task={cpus}\n"
+      "#SBATCH --output={logs}/cell-%a.log\n"
+      "#SBATCH --open-mode=append\n"
+      "#SBATCH --signal=B:TERM@120\n"
+      "#SBATCH --requeue\n"
+      "{common}"
+      "cd {workdir} || exit 1\n"
+      "# SIGTERM (a time limit near, or a preemption) goes to fscil-bench, which keeps the checkpoint of\n"
+      "# its last finished session; a requeued task, or fscil-bench slurm --missing-only, continues it.\n"
+      "trap 'stop=1; [ -n \"${{child:-}}\" ] && kill -TERM \"$child\" 2>/dev/null' TERM\n"
+      "{command} --cell \"$SLURM_ARRAY_TASK_ID\" --threads \"${{SLURM_CPUS_PER_TASK:-{cpus}}}\" &\n"
+      "child=$!\n"
+      "[ -n \"${{stop:-}}\" ] && kill -TERM \"$child\" 2>/dev/null\n"
+      "while kill -0 \"$child\" 2>/dev/null; do wait \"$child\"; done  # a trap ends a wait early\n"
+      "wait \"$child\"  # its exit status, which bash keeps\n",
+      fmt::arg("range", range), fmt::arg("cpus", cpus), fmt::arg("logs", logs.string()),
+      fmt::arg("common", common_lines(slurm)), fmt::arg("workdir", shell_command({workdir.string()})),
+      fmt::arg("command", command));
+}
+
+std::string merge_script(const std::string& command, const std::string& check, const fs::path& logs,
+                         const fs::path& workdir, const SlurmOptions& slurm) {
+  return fmt::format(
+      "#!/bin/bash\n"
+      "# The tables over every cell's result files, after the array: submitted with\n"
+      "# sbatch --dependency=afterany:ARRAY_JOB_ID (fscil-bench slurm --submit does it).\n"
+      "#SBATCH --job-name=fscil-bench-merge\n"
+      "#SBATCH --cpus-per-task=1\n"
+      "#SBATCH --output={logs}/merge.log\n"
+      "{common}"
+      "cd {workdir} || exit 1\n"
+      "{command}\n"
+      "# Fails, listing them, while any cell has no result file yet.\n"
+      "{check}\n",
+      fmt::arg("logs", logs.string()), fmt::arg("common", common_lines(slurm)),
+      fmt::arg("workdir", shell_command({workdir.string()})), fmt::arg("command", command), fmt::arg("check", check));
+}
+
+// Runs `sbatch --parsable ...` and returns the job id it prints (its warnings go to stderr).
+std::string submit(const std::vector<std::string>& words) {
+  const std::string command = shell_command(words);
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (pipe == nullptr) throw CliError(fmt::format("{}: cannot run", command));
+  std::string output;
+  char buffer[256];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+  const int status = ::pclose(pipe);
+  while (!output.empty() && (output.back() == '\n' || output.back() == '\r')) output.pop_back();
+  const std::string last_line = output.substr(output.rfind('\n') == std::string::npos ? 0 : output.rfind('\n') + 1);
+  const std::string id = last_line.substr(0, last_line.find(';'));  // "id;cluster" on a federation
+  if (status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
+    throw CliError(fmt::format("{} failed ({}){}", command,
+                               WIFEXITED(status) ? fmt::format("exit {}", WEXITSTATUS(status)) : "no exit status",
+                               last_line.empty() ? "" : ": " + last_line));
+  }
+  return id;
+}
+
+}  // namespace
+
+std::string array_range(const std::vector<int>& cells, int max_parallel) {
+  std::string range;
+  for (std::size_t i = 0; i < cells.size();) {
+    std::size_t j = i;
+    while (j + 1 < cells.size() && cells[j + 1] == cells[j] + 1) ++j;
+    if (!range.empty()) range += ',';
+    range += j == i ? std::to_string(cells[i]) : fmt::format("{}-{}", cells[i], cells[j]);
+    i = j + 1;
+  }
+  return max_parallel > 0 ? fmt::format("{}%{}", range, max_parallel) : range;
+}
+
+std::string run_slurm(const RunOptions& options, const std::vector<std::string>& grid, const SlurmOptions& slurm,
+                      const std::string& executable) {
+  if (slurm.max_parallel < 0) throw CliError(fmt::format("--max-parallel {}: expected 0 (no limit) or more", slurm.max_parallel));
+  for (const auto& argument : slurm.sbatch_arguments) {
+    if (argument.rfind("--", 0) != 0 || argument.find_first_of("\n\r") != std::string::npos) {
+      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, e.g. --sbatch-arg=--account=abc",
+                                 shell_command({argument})));
+    }
+  }
+  const auto cells = plan_cells(options, grid);
+  std::vector<int> chosen;
+  for (const auto& cell : cells) {
+    if (!slurm.missing_only || !cell_has_results(options, cell)) chosen.push_back(cell.index);
+  }
+  const int cpus = slurm.cpus_per_task > 0 ? slurm.cpus_per_task : options.threads > 0 ? options.threads : 1;
+  const fs::path workdir = fs::current_path();
+  const fs::path folder = fs::absolute(options.out) / "slurm";
+  const fs::path logs = fs::absolute(options.out) / "cell-logs";
+  fs::create_directories(folder);
+  fs::create_directories(logs);
+
+  std::vector<std::string> task = {executable};
+  for (const auto& word : command_arguments(options, grid)) task.push_back(word);
+  std::vector<std::string> merge = {executable, "report", "--results", options.out, "--methods", options.methods};
+  for (const auto& axis : grid) merge.insert(merge.end(), {"--grid", axis});
+  const fs::path array_file = folder / "array.sbatch";
+  const fs::path merge_file = folder / "merge.sbatch";
+  if (chosen.empty()) {
+    return fmt::format("All {} cells have their result files: nothing to submit. Tables: {}\n", cells.size(),
+                       shell_command(merge));
+  }
+  write_file_atomically(array_file, array_script(shell_command(task), array_range(chosen, slurm.max_parallel), cpus,
+                                                 logs, workdir, slurm));
+  std::vector<std::string> check = {executable, "plan"};
+  for (const auto& word : command_arguments(options, grid)) check.push_back(word);
+  if (!grid.empty()) check.erase(check.begin() + 2);  // "plan sweep --grid ...": plan takes --grid itself
+  check.emplace_back("--missing-only");
+  write_file_atomically(merge_file, merge_script(shell_command(merge), shell_command(check), logs, workdir, slurm));
+  std::string text = fmt::format("{} of {} cells in {} ({} cpus per task); tables after them: {}\n", chosen.size(),
+                                 cells.size(), array_file.string(), cpus, merge_file.string());
+  if (!slurm.submit) {
+    return text + fmt::format("Submit with: jid=$(sbatch --parsable {}) && sbatch --dependency=afterany:$jid {}\n",
+                              shell_command({array_file.string()}), shell_command({merge_file.string()}));
+  }
+  const std::string array_job = submit({"sbatch", "--parsable", array_file.string()});
+  std::string merge_job;
+  try {
+    merge_job = submit({"sbatch", "--parsable", "--dependency=afterany:" + array_job, merge_file.string()});
+  } catch (const CliError& error) {
+    throw CliError(fmt::format("array job {} submitted, its merge job not: {}", array_job, error.what()));
+  }
+  return text + fmt::format("Submitted array job {} and merge job {}\n", array_job, merge_job);
+}
+
+}  // namespace fscil

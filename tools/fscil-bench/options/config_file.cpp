@@ -1,0 +1,131 @@
+#include "tools/fscil-bench/options/config_file.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "tools/fscil-bench/options/cli_error.h"
+
+namespace fscil {
+
+namespace {
+
+using json = nlohmann::ordered_json;  // the file's order: the first grid axis varies slowest
+
+// A scalar of the file as the command line would write it.
+std::string text_of(const json& value, const std::string& where) {
+  if (value.is_string()) return value.get<std::string>();
+  if (value.is_boolean()) return value.get<bool>() ? "true" : "false";
+  if (value.is_number_integer()) return std::to_string(value.get<std::int64_t>());
+  if (value.is_number()) return value.dump();
+  throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
+}
+
+bool given(const std::vector<std::string>& command_line, const std::string& option) {
+  return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
+    return word == option || word.rfind(option + "=", 0) == 0;
+  });
+}
+
+// The keys the command line sweeps: `--grid KEY=...` or `--grid=KEY=...`.
+bool swept_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
+  for (std::size_t i = 1; i < command_line.size(); ++i) {
+    const std::string& word = command_line[i];
+    const std::string axis = word == "--grid" && i + 1 < command_line.size() ? command_line[i + 1]
+                             : word.rfind("--grid=", 0) == 0              ? word.substr(7)
+                                                                          : std::string();
+    if (axis.substr(0, axis.find('=')) == key) return true;
+  }
+  return false;
+}
+
+json parse_config(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw CliError(fmt::format("--config {}: cannot read the file", file.string()));
+  json config;
+  try {
+    config = json::parse(in);
+  } catch (const json::exception& error) {
+    throw CliError(fmt::format("--config {}: not JSON ({})", file.string(), error.what()));
+  }
+  if (!config.is_object()) throw CliError(fmt::format("--config {}: expected a JSON object of run options", file.string()));
+  return config;
+}
+
+std::vector<std::pair<std::string, std::string>> settings_of(const json& value, const std::string& where) {
+  if (!value.is_object()) throw CliError(where + ": expected an object of keys and values");
+  std::vector<std::pair<std::string, std::string>> settings;
+  for (const auto& [name, setting] : value.items()) settings.emplace_back(name, text_of(setting, where + "." + name));
+  return settings;
+}
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file) {
+  const json config = parse_config(file);
+  if (!config.contains("set")) return {};
+  return settings_of(config.at("set"), fmt::format("--config {}: \"set\"", file.string()));
+}
+
+std::string config_file_of(const std::vector<std::string>& command_line) {
+  for (std::size_t i = 1; i < command_line.size(); ++i) {
+    if (command_line[i] == "--config" && i + 1 < command_line.size()) return command_line[i + 1];
+    if (command_line[i].rfind("--config=", 0) == 0) return command_line[i].substr(9);
+  }
+  return {};
+}
+
+std::vector<std::string> with_config_file(const std::vector<std::string>& command_line,
+                                          const std::filesystem::path& file,
+                                          const std::function<bool(const std::string&)>& is_option) {
+  const json config = parse_config(file);
+  std::vector<std::string> options;  // after the program name
+  std::vector<std::string> grid;     // after the subcommand
+  for (const auto& [key, value] : config.items()) {
+    const std::string where = fmt::format("--config {}: \"{}\"", file.string(), key);
+    if (key == "set") {
+      for (const auto& [name, setting] : settings_of(value, where)) {
+        if (!swept_on_command_line(command_line, name)) options.insert(options.end(), {"--set", name + "=" + setting});
+      }
+    } else if (key == "grid") {
+      if (!value.is_object()) throw CliError(where + ": expected an object of keys and value lists");
+      for (const auto& [name, values] : value.items()) {
+        if (!values.is_array() || values.empty()) throw CliError(fmt::format("{}.{}: expected a list of values", where, name));
+        if (swept_on_command_line(command_line, name)) continue;  // the command line's axis wins
+        std::string axis = name + "=";
+        for (std::size_t i = 0; i < values.size(); ++i) {
+          axis += (i == 0 ? "" : ",") + text_of(values[i], where + "." + name);
+        }
+        grid.insert(grid.end(), {"--grid", axis});
+      }
+    } else if (key == "config" || !is_option("--" + key)) {
+      throw CliError(fmt::format("{}: not a run option (expected e.g. methods, dataset, seeds, set, grid)", where));
+    } else if (given(command_line, "--" + key)) {
+      continue;  // the command line's own value wins
+    } else if (value.is_boolean()) {
+      if (value.get<bool>()) options.push_back("--" + key);
+    } else {
+      options.insert(options.end(), {"--" + key, text_of(value, where)});
+    }
+  }
+
+  std::vector<std::string> merged = {command_line.front()};
+  merged.insert(merged.end(), options.begin(), options.end());
+  bool grid_placed = grid.empty();
+  for (std::size_t i = 1; i < command_line.size(); ++i) {
+    merged.push_back(command_line[i]);
+    const std::string& word = command_line[i];
+    if (!grid_placed && (word == "sweep" || word == "plan" || word == "run-cells" || word == "slurm")) {
+      merged.insert(merged.end(), grid.begin(), grid.end());
+      grid_placed = true;
+    }
+  }
+  if (!grid_placed) {
+    throw CliError(fmt::format("--config {}: \"grid\" needs the sweep, plan, run-cells or slurm subcommand", file.string()));
+  }
+  return merged;
+}
+
+}  // namespace fscil

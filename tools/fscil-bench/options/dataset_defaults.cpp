@@ -1,0 +1,27 @@
+#include "tools/fscil-bench/options/dataset_defaults.h"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "core/parameter_set.h"
+#include "tools/fscil-bench/options/cli_error.h"
+#include "tools/fscil-bench/options/config_file.h"
+#include "tools/fscil-bench/options/data_folder.h"
+
+namespace fscil {
+
+void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
+  const auto folder = data_folder() / "configs";
+  // A binary that lost its data folder would run LS-100 and NS-100 with other values, silently.
+  if (!std::filesystem::is_directory(folder)) {
+    throw CliError(fmt::format("{}: no such folder (the released dataset configs); run fscil-bench from its build "
+                               "tree or its install prefix", folder.string()));
+  }
+  if (dataset.empty() || dataset.find_first_of("/.") != std::string::npos) return;
+  const auto file = folder / (dataset + ".json");
+  if (!std::filesystem::exists(file)) return;
+  for (const auto& [key, value] : config_settings(file)) params.set_default(key, value);
+}
+
+}  // namespace fscil

@@ -1,0 +1,61 @@
+#include "tools/fscil-bench/options/sweep_grid.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "reports/run_record.h"
+#include "tools/fscil-bench/options/cli_error.h"
+
+namespace fscil {
+
+std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts) {
+  std::vector<GridAxis> axes;
+  for (const auto& text : texts) {
+    const auto equals = text.find('=');
+    if (equals == std::string::npos) throw CliError(fmt::format("--grid '{}': expected key=value1,value2,...", text));
+    GridAxis axis{text.substr(0, equals), {}};
+    if (!is_grid_text(axis.key)) {
+      throw CliError(fmt::format("--grid '{}': the key must be letters, digits, '_', '.' or '-'", text));
+    }
+    if (std::any_of(axes.begin(), axes.end(), [&](const GridAxis& other) { return other.key == axis.key; })) {
+      throw CliError(fmt::format("--grid {}: given twice; list all its values in one --grid", axis.key));
+    }
+    const std::string list = text.substr(equals + 1);
+    std::size_t start = 0;
+    while (true) {
+      const auto comma = list.find(',', start);
+      const std::string value = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+      if (!is_grid_text(value)) {
+        throw CliError(fmt::format("--grid '{}': value '{}' is empty or holds characters other than letters, "
+                                   "digits, '_', '.' and '-'", text, value));
+      }
+      if (std::find(axis.values.begin(), axis.values.end(), value) != axis.values.end()) {
+        throw CliError(fmt::format("--grid '{}': value {} given twice", text, value));
+      }
+      axis.values.push_back(value);
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+    axes.push_back(std::move(axis));
+  }
+  if (axes.empty()) throw CliError("sweep: expected at least one --grid key=value1,value2,...");
+  return axes;
+}
+
+std::vector<std::map<std::string, std::string>> grid_cells(const std::vector<GridAxis>& axes) {
+  std::vector<std::map<std::string, std::string>> cells = {{}};
+  for (const auto& axis : axes) {
+    std::vector<std::map<std::string, std::string>> extended;
+    for (const auto& cell : cells) {
+      for (const auto& value : axis.values) {
+        extended.push_back(cell);
+        extended.back()[axis.key] = value;
+      }
+    }
+    cells = std::move(extended);
+  }
+  return cells;
+}
+
+}  // namespace fscil

@@ -1,4 +1,0 @@
-// fscil-bench: run FSCIL methods on tactile and audio datasets and tabulate the results.
-#include "tools/command_line.h"
-
-int main(int argc, char** argv) { return fscil::fscil_bench_main(argc, argv); }
