@@ -10,6 +10,8 @@
 #include <cstring>
 #include <string_view>
 
+#include "core/number_text.h"
+
 namespace fscil {
 
 namespace fs = std::filesystem;
@@ -32,7 +34,7 @@ std::string temporary_marker() { return fmt::format(".tmp-{}-", host_name()); }
 
 bool process_is_gone(const std::string& digits) {
   if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) return false;
-  const auto pid = static_cast<pid_t>(std::stol(digits));
+  const auto pid = static_cast<pid_t>(*parse_number<long>(digits));  // at most 9 digits
   return pid > 0 && ::kill(pid, 0) != 0 && errno == ESRCH;
 }
 

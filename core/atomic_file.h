@@ -1,16 +1,11 @@
 #pragma once
 #include <filesystem>
 #include <functional>
-#include <stdexcept>
 #include <string>
 
-namespace fscil {
+#include "core/error.h"
 
-// Raised when a file cannot be written or replaced; names the file.
-class FileError : public std::runtime_error {
- public:
-  explicit FileError(const std::string& message) : std::runtime_error(message) {}
-};
+namespace fscil {
 
 // The one way the harness writes a file. `write` fills a temporary file beside `path`; it is then
 // flushed to disk, renamed over `path` and the folder synced, so a reader (or a crash) sees the

@@ -9,10 +9,13 @@
 
 namespace fscil {
 
+int thread_count(int requested) {
+  return requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 void parallel_for(std::size_t count, int threads, const std::function<void(std::size_t)>& body) {
   if (count == 0) return;
-  const auto available = static_cast<std::size_t>(
-      threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
+  const auto available = static_cast<std::size_t>(thread_count(threads));
   const std::size_t workers = std::min(available, count);
   std::vector<std::exception_ptr> failures(count);
   std::atomic<std::size_t> next{0};

@@ -7,8 +7,9 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/shown_text.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -47,17 +48,13 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
     remember(key, fmt::format("{}", fallback));
     return fallback;
   }
-  char* end = nullptr;
-  errno = 0;
-  const double parsed = std::strtod(value->c_str(), &end);
-  if (value->empty() || *end != '\0' || errno != 0 || !std::isfinite(parsed)) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
-  }
-  if (!valid.contains(parsed)) {
+  const auto parsed = parse_finite_number(*value);
+  if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
+  if (!valid.contains(*parsed)) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, shown_text(*value), valid.describe()));
   }
   remember(key, shown_text(*value));
-  return parsed;
+  return *parsed;
 }
 
 std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const {
@@ -66,17 +63,13 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
     remember(key, std::to_string(fallback));
     return fallback;
   }
-  char* end = nullptr;
-  errno = 0;
-  const long long parsed = std::strtoll(value->c_str(), &end, 10);
-  if (value->empty() || *end != '\0' || errno != 0) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
-  }
-  if (!valid.contains(static_cast<double>(parsed))) {
+  const auto parsed = parse_number<std::int64_t>(*value);
+  if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
+  if (!valid.contains(static_cast<double>(*parsed))) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, shown_text(*value), valid.describe()));
   }
   remember(key, shown_text(*value));
-  return parsed;
+  return *parsed;
 }
 
 bool ParameterSet::flag(const std::string& key, bool fallback) const {

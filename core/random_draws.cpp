@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

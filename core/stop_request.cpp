@@ -29,8 +29,8 @@ extern "C" void record_stop(int signal) {
 }  // namespace
 
 StopRequested::StopRequested(int signal)
-    : std::runtime_error(fmt::format("stopped by {}", signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT"
-                                                                                                    : strsignal(signal))),
+    : Error(fmt::format("stopped by {}", signal == SIGTERM ? "SIGTERM" : signal == SIGINT ? "SIGINT" : strsignal(signal)),
+            exit_status::stopped_by(signal)),
       signal_(signal) {}
 
 void install_stop_handlers() {

@@ -1,5 +1,6 @@
 #pragma once
-#include <stdexcept>
+
+#include "core/error.h"
 
 namespace fscil {
 
@@ -20,7 +21,8 @@ void stop_if_requested();
 // Forgets a stop request (tests).
 void clear_stop_request();
 
-class StopRequested : public std::runtime_error {
+// Exits with exit_status::stopped_by(signal).
+class StopRequested : public Error {
  public:
   explicit StopRequested(int signal);
   int signal() const { return signal_; }

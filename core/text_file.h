@@ -4,7 +4,8 @@
 
 namespace fscil {
 
-// The whole file as bytes. Throws ReportError naming the file when it cannot be read.
+// The whole file as bytes: the one way the harness reads a text file. Throws FileError naming the
+// file when it is a folder or cannot be opened or read.
 std::string read_text_file(const std::filesystem::path& path);
 
 }  // namespace fscil

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/log_mel_extractor.h"
 #include "datasets/readers/audio_adapters.h"
 #include "datasets/readers/folder_adapter.h"

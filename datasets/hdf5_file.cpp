@@ -5,7 +5,7 @@
 
 #include <functional>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "core/atomic_file.h"
 
 namespace fscil {

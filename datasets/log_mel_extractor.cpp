@@ -7,9 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <mutex>
-#include <thread>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "core/parallel_for.h"
 
 namespace fscil {
@@ -155,8 +154,7 @@ void LogMelExtractor::extract_rows(const float* signals, std::int64_t rows, std:
                                    signals[i]));
   }
   if (rows == 0) return;
-  const int available = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  const auto workers = static_cast<std::int64_t>(std::min<std::int64_t>(available, rows));
+  const auto workers = std::min<std::int64_t>(thread_count(threads), rows);
   // One contiguous block of rows per worker: extract_range sets up its FFT buffers once per call.
   const std::int64_t chunk = (rows + workers - 1) / workers;
   parallel_for(static_cast<std::size_t>((rows + chunk - 1) / chunk), static_cast<int>(workers), [&](std::size_t block) {

@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <cstring>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/hdf5_file.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -121,7 +122,11 @@ std::optional<SegmentSet> SegmentCache::load(const DatasetDescription& descripti
     s.recording_index = to_int(read_hdf5_integers(path, "recording_index"));
     s.recording_ids = read_hdf5_strings(path, "recording_ids");
     for (int code : read_hdf5_integers(path, "recording_split")) s.recording_split.push_back(split_from_code(code, path));
-    if (std::stoi(read_hdf5_attribute(path, "context_count")) > 0) {
+    const std::string context_count = read_hdf5_attribute(path, "context_count");
+    if (!parse_number<int>(context_count)) {
+      throw DatasetError(fmt::format("{}: context_count '{}', expected a whole number", path.string(), context_count));
+    }
+    if (*parse_number<int>(context_count) > 0) {
       Hdf5Table contexts = read_hdf5_table(path, "contexts");
       s.context_names = std::move(contexts.columns);
       s.context_values = std::move(contexts.values);

@@ -7,7 +7,7 @@
 #include <limits>
 #include <set>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

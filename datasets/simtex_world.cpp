@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/simtex.h"
 #include "datasets/simtex_random.h"
 

@@ -15,6 +15,7 @@
 #include "metrics/model_cost.h"
 #include "core/parameter_set.h"
 #include "core/progress_reporter.h"
+#include "core/error.h"
 #include "core/stop_request.h"
 #include "metrics/session_outcome.h"
 
@@ -149,12 +150,6 @@ class Method {
   double accuracy_on(const SessionData& data) {
     return 100.0 * (classify(embed_rows(data.features)).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
   }
-};
-
-// Raised for bad method requests and impossible method states.
-class MethodError : public std::runtime_error {
- public:
-  explicit MethodError(const std::string& message) : std::runtime_error(message) {}
 };
 
 }  // namespace fscil

@@ -1,7 +1,9 @@
 #pragma once
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fscil {
@@ -9,10 +11,22 @@ namespace fscil {
 class Method;
 class ParameterSet;
 
+// key=value defaults a profile applies before --set.
+using ParameterDefaults = std::vector<std::pair<std::string, std::string>>;
+
+// A method as the runner and the tools know it. What they need of it is declared here, by the
+// method, rather than named there.
 struct MethodEntry {
   std::string name;
   std::string summary;
   std::function<std::unique_ptr<Method>(const ParameterSet& params)> create;
+  // Lists it belongs to besides "all", e.g. "ablation" (--methods ablation runs them in registry order).
+  std::vector<std::string> groups = {};
+  // The parameters whose sum is its base session's epochs (a cell's cost class).
+  std::vector<std::string> base_epoch_keys = {};
+  // How each profile shortens its schedule (protocols/profiles.h): profile name -> defaults; the
+  // paper profile changes nothing.
+  std::map<std::string, ParameterDefaults> profile_defaults = {};
 };
 
 // The built-in methods, then those added by register_method(), in that order ("all" runs them so).
@@ -26,8 +40,11 @@ void register_method(MethodEntry entry);
 // register_method() throws MethodError.
 void close_method_registry();
 
-// "all", or a comma-separated list of names; throws MethodError naming an unknown method.
+// "all", a group ("ablation"), or a comma-separated list of names; throws MethodError naming an
+// unknown method.
 std::vector<std::string> resolve_method_names(const std::string& request);
+// The registry's entry of a method; throws MethodError for an unknown name.
+const MethodEntry& method_entry(const std::string& name);
 std::unique_ptr<Method> create_method(const std::string& name, const ParameterSet& params);
 
 }  // namespace fscil

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <string>
 
+#include "core/number_text.h"
+
 namespace fscil {
 
 std::int64_t peak_resident_bytes() {
@@ -13,7 +15,11 @@ std::int64_t peak_resident_bytes() {
   std::ifstream status("/proc/self/status");
   std::string line;
   while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stoll(line.substr(6)) * 1024;  // reported in kB
+    if (line.rfind("VmHWM:", 0) != 0) continue;
+    const auto first = line.find_first_of("0123456789");  // "VmHWM:    1234 kB"
+    if (first == std::string::npos) continue;
+    const auto digits = line.substr(first, line.find_first_not_of("0123456789", first) - first);
+    if (const auto kilobytes = parse_number<std::int64_t>(digits)) return *kilobytes * 1024;
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

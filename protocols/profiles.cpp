@@ -2,34 +2,48 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <map>
+
+#include "core/error.h"
 #include "core/parameter_set.h"
-#include "core/protocol_error.h"
+#include "methods/method_registry.h"
 
 namespace fscil {
 
-// The paper's schedule is every method's default; fast and smoke shrink the epochs (and the
-// learning-rate step with them, so the decay still happens) and nothing else.
+// The paper's schedule is every method's default; how fast and smoke shorten a method's schedule
+// is the method's to say (MethodEntry::profile_defaults).
 const std::vector<Profile>& profiles() {
   static const std::vector<Profile> table = {
-      {"smoke", "whole protocol in seconds per method (tests); use with simtex-mini",
-       {{"pretrain_epochs", "3"}, {"lr_step", "2"}, {"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}},
-      {"fast", "default: every method of the main README job within 20 minutes on 2 cores",
-       {{"pretrain_epochs", "8"}, {"lr_step", "4"}, {"pit_epochs", "2"}}},
+      {"smoke", "whole protocol in seconds per method (tests); use with simtex-mini"},
+      {"fast", "default: every method of the main README job within 20 minutes on 2 cores"},
       {"paper", "the paper's schedule (100/10/200 epochs of pretraining, pseudo-incremental training and "
-       "session fine-tuning; lr halved every 40)", {}},
+       "session fine-tuning; lr halved every 40)"},
   };
   return table;
 }
 
 void apply_profile(const std::string& name, ParameterSet& params) {
-  for (const auto& profile : profiles()) {
-    if (name != profile.name) continue;
-    for (const auto& [key, value] : profile.settings) params.set_default(key, value);
-    return;
+  const bool known = std::any_of(profiles().begin(), profiles().end(), [&](const Profile& p) { return name == p.name; });
+  if (!known) {
+    std::vector<std::string> names;
+    for (const auto& profile : profiles()) names.emplace_back(profile.name);
+    throw ProtocolError(fmt::format("unknown profile '{}': expected one of {}", name, fmt::join(names, ", ")));
   }
-  std::vector<std::string> names;
-  for (const auto& profile : profiles()) names.emplace_back(profile.name);
-  throw ProtocolError(fmt::format("unknown profile '{}': expected one of {}", name, fmt::join(names, ", ")));
+  // Every method's defaults for the profile: methods sharing a stage share its keys, and must agree.
+  std::map<std::string, std::pair<std::string, std::string>> applied;  // key -> value, method
+  for (const auto& entry : method_registry()) {
+    const auto defaults = entry.profile_defaults.find(name);
+    if (defaults == entry.profile_defaults.end()) continue;
+    for (const auto& [key, value] : defaults->second) {
+      const auto [earlier, first] = applied.emplace(key, std::make_pair(value, entry.name));
+      if (!first && earlier->second.first != value) {
+        throw MethodError(fmt::format("profile {}: {} sets {}={} where {} sets {}", name, entry.name, key, value,
+                                      earlier->second.second, earlier->second.first));
+      }
+      params.set_default(key, value);
+    }
+  }
 }
 
 }  // namespace fscil

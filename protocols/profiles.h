@@ -6,16 +6,16 @@ namespace fscil {
 
 class ParameterSet;
 
+// A schedule length. What it changes in a method's schedule is the method's registry entry's to
+// say (MethodEntry::profile_defaults); the profile only names and describes itself.
 struct Profile {
   const char* name;
   const char* summary;
-  // key=value defaults the profile applies before --set; they only shorten schedules.
-  std::vector<std::pair<const char*, const char*>> settings;
 };
 
 const std::vector<Profile>& profiles();
-// Applies the named profile's settings; throws ProtocolError for an unknown name.
+// Applies every registered method's defaults for the named profile (before --set); throws
+// ProtocolError for an unknown name, MethodError where two methods shorten one key differently.
 void apply_profile(const std::string& name, ParameterSet& params);
-
 
 }  // namespace fscil

@@ -8,9 +8,10 @@
 #include <sstream>
 
 #include "core/stable_hash.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/shown_text.h"
 #include "core/atomic_file.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -100,10 +101,10 @@ bool read_diagnostics(const std::string& text, std::vector<SessionOutcome>& outc
     std::size_t session = 0;
     std::string name, value;
     if (!(fields >> session >> name >> value) || session >= outcomes.size()) return false;
-    // strtod, not >>: a diverged loss is written as nan or inf, and >> refuses those and subnormals.
-    char* end = nullptr;
-    outcomes[session].diagnostics[name] = std::strtod(value.c_str(), &end);
-    if (*end != '\0') return false;
+    // Not >>: a diverged loss is written as nan or inf, and >> refuses those and subnormals.
+    const auto parsed = parse_number<double>(value);
+    if (!parsed) return false;
+    outcomes[session].diagnostics[name] = *parsed;
   }
   return true;
 }
@@ -130,19 +131,14 @@ bool read_training_log(const std::string& text, std::vector<SessionOutcome>& out
     std::istringstream cells(line);
     for (std::string field; std::getline(cells, field, '\t');) fields.push_back(field);
     if (fields.size() != 5) return false;
-    char* end = nullptr;
-    const unsigned long session = std::strtoul(fields[0].c_str(), &end, 10);
-    if (*end != '\0' || fields[0].empty() || session >= outcomes.size()) return false;
-    const long epoch = std::strtol(fields[2].c_str(), &end, 10);
-    if (*end != '\0' || fields[2].empty()) return false;
-    const double value = std::strtod(fields[4].c_str(), &end);
-    if (fields[4].empty() || *end != '\0') return false;
-    auto& log = outcomes[session].training_log;
+    const auto session = parse_number<std::size_t>(fields[0]);
+    const auto epoch = parse_number<int>(fields[2]);
+    const auto value = parse_number<double>(fields[4]);
+    if (!session || *session >= outcomes.size() || !epoch || !value) return false;
+    auto& log = outcomes[*session].training_log;
     // Values of one epoch are consecutive lines.
-    if (log.empty() || log.back().stage != fields[1] || log.back().epoch != epoch) {
-      log.push_back({fields[1], static_cast<int>(epoch), {}});
-    }
-    log.back().values[fields[3]] = value;
+    if (log.empty() || log.back().stage != fields[1] || log.back().epoch != *epoch) log.push_back({fields[1], *epoch, {}});
+    log.back().values[fields[3]] = *value;
   }
   return true;
 }

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <iterator>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/atomic_file.h"
 
 namespace fscil {

@@ -5,7 +5,7 @@
 #include <numeric>
 
 #include "core/parameter_set.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/seeded_shuffle.h"
 
 namespace fscil {

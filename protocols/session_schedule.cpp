@@ -7,7 +7,7 @@
 #include <functional>
 #include <map>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/seeded_shuffle.h"
 
 namespace fscil {

@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/stable_hash.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

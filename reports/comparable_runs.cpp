@@ -6,7 +6,7 @@
 #include <set>
 #include <tuple>
 
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "metrics/statistics.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/summary_table.h"
 
 namespace fscil {

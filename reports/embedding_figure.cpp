@@ -5,7 +5,7 @@
 
 #include <algorithm>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/hdf5_file.h"
 
 namespace fscil {

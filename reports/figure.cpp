@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "core/shown_text.h"
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

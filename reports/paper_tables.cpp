@@ -6,7 +6,7 @@
 
 #include "core/text_file.h"
 #include "reports/csv_fields.h"
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 
@@ -26,7 +26,7 @@ std::vector<PaperRow> load_paper_tables(const std::filesystem::path& path) {
     const std::string& line = lines[number];
     if (line.empty()) continue;
     const std::string where = fmt::format("{}:{}", path.string(), number + 1);
-    const auto fields = split_fields(line);
+    const auto fields = csv_fields(line);
     if (fields.size() != 8) throw ReportError(fmt::format("{}: {} fields, expected 8", where, fields.size()));
     PaperRow row{fields[0], fields[1], fields[2], fields[3], {}, 0, 0, 0};
     std::stringstream accuracies(fields[4]);

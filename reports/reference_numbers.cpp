@@ -13,8 +13,9 @@
 #include "metrics/fscil_metrics.h"
 #include "core/shown_text.h"
 #include "reports/csv_fields.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "core/text_file.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -35,14 +36,12 @@ std::string kernels_of(const RunRecord& record) {
 // would round and a value beyond T's range could not be converted at all.
 template <typename T>
 T whole_number(const std::string& text, T low, const std::string& where) {
-  T value{};
-  const char* end = text.data() + text.size();
-  const auto [stop, error] = std::from_chars(text.data(), end, value);
-  if (error != std::errc() || stop != end || value < low) {
+  const auto value = parse_number<T>(text);
+  if (!value || *value < low) {
     throw ReportError(fmt::format("{}: '{}', expected a whole number from {} to {}", where, shown_text(text), low,
                                   std::numeric_limits<T>::max()));
   }
-  return value;
+  return *value;
 }
 
 // metric name -> value of one run.
@@ -115,7 +114,7 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
       with_kernels = line == kHeader;
       continue;
     }
-    auto fields = split_fields(line);
+    auto fields = csv_fields(line);
     const std::size_t fields_expected = with_kernels ? kFields : kFields - 1;
     if (fields.size() != fields_expected) {
       throw ReportError(fmt::format("{}: {} fields, expected {} ({})", where, fields.size(), fields_expected,

@@ -11,9 +11,10 @@
 
 #include "core/atomic_file.h"
 #include "reports/csv_fields.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "core/text_file.h"
 #include "reports/xml_text.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -170,12 +171,7 @@ std::string svg_element_text(const std::string& svg, const std::string& name) {
   return out;
 }
 
-bool is_number(const std::string& text) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  return *end == '\0' && std::isfinite(value);
-}
+bool is_number(const std::string& text) { return parse_finite_number(text).has_value(); }
 
 std::string inline_table(const fs::path& root, const fs::path& relative) {
   std::vector<std::string> lines = csv_lines(read_text_file(root / relative));
@@ -183,12 +179,12 @@ std::string inline_table(const fs::path& root, const fs::path& relative) {
   std::string out = fmt::format("<h3>{}</h3>\n", link(relative, relative.generic_string()));
   if (lines.empty()) return out + "<p class=\"rows\">(empty)</p>\n";
   out += "<div class=\"table\"><table>\n<thead><tr>";
-  for (const auto& field : split_fields(lines.front())) out += fmt::format("<th>{}</th>", xml_text(field));
+  for (const auto& field : csv_fields(lines.front())) out += fmt::format("<th>{}</th>", xml_text(field));
   out += "</tr></thead>\n<tbody>\n";
   const std::size_t rows = std::min(lines.size() - 1, max_inline_rows);
   for (std::size_t row = 1; row <= rows; ++row) {
     out += "<tr>";
-    for (const auto& field : split_fields(lines[row])) {
+    for (const auto& field : csv_fields(lines[row])) {
       out += fmt::format("<td{}>{}</td>", is_number(field) ? " class=\"number\"" : "", xml_text(field));
     }
     out += "</tr>\n";

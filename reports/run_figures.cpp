@@ -8,7 +8,7 @@
 #include <map>
 
 #include "metrics/statistics.h"
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

@@ -12,7 +12,7 @@
 #include "core/atomic_file.h"
 #include "reports/comparable_runs.h"
 #include "core/text_file.h"
-#include "core/report_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

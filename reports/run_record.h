@@ -11,21 +11,10 @@
 
 namespace fscil {
 
-struct SessionRecord {
-  int session = 0;
-  int seen_classes = 0;
-  SessionAccuracy accuracy;
-  double train_seconds = 0;
-  double test_seconds = 0;
-  // Context-to-class dispersion of the test embeddings; NaN (null in JSON) when unknown.
-  double context_ratio_mean = std::numeric_limits<double>::quiet_NaN();
-  double context_ratio_max = std::numeric_limits<double>::quiet_NaN();
-  // What the method reported while it trained this session (base validation accuracy after each
-  // stage, mean loss terms, PSPC's effective shots, ...).
-  std::map<std::string, double> diagnostics;
-  // Every epoch the method trained in this session (stage, epoch, loss, its terms, lr, seconds).
-  std::vector<EpochLog> training_log;
-};
+// One session of a run as its result file holds it: what the runner measured
+// (metrics/session_outcome.h), the one session-result type; context ratios are null in JSON when
+// unknown, as are diverged diagnostics.
+using SessionRecord = SessionOutcome;
 
 // The trained model's inference cost per sample, after the last session (rules in
 // metrics/model_cost.h) and its measured inference time (IT).

@@ -8,7 +8,7 @@
 #include "reports/csv_fields.h"
 #include "reports/latex_text.h"
 #include "reports/paper_comparison.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "core/text_file.h"
 
 namespace fscil {
@@ -70,7 +70,7 @@ std::vector<PaperSetting> load_paper_analyses(const std::filesystem::path& path)
   for (std::size_t number = 1; number < lines.size(); ++number) {
     if (lines[number].empty()) continue;
     const std::string where = fmt::format("{}:{}", path.string(), number + 1);
-    const auto fields = split_fields(lines[number]);
+    const auto fields = csv_fields(lines[number]);
     if (fields.size() != 8) throw ReportError(fmt::format("{}: {} fields, expected 8", where, fields.size()));
     rows.push_back({fields[0], fields[1], fields[2], number_or_nan(fields[3], where + " Acc0"),
                     number_or_nan(fields[4], where + " PD"), number_or_nan(fields[5], where + " AA"),

@@ -6,11 +6,12 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
 #include "core/shown_text.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -30,17 +31,11 @@ const ListedSplit kListedSplits[] = {{"train", SplitHint::train}, {"val", SplitH
                                      {"test", SplitHint::test}};
 
 int parse_label(const std::string& field, const std::string& where) {
-  std::size_t end = 0;
-  int label = -1;
-  try {
-    label = std::stoi(field, &end);
-  } catch (const std::exception&) {
-    end = 0;
-  }
-  if (end != field.size() || label < 0) {
+  const auto label = parse_number<int>(field);
+  if (!label || *label < 0) {
     throw DatasetError(fmt::format("{}: label '{}', expected a class index >= 0", where, shown_text(field)));
   }
-  return label;
+  return *label;
 }
 
 // One clip per row; the clip's file is its recording id, so a file listed twice is an error.

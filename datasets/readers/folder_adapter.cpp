@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "core/shown_text.h"

@@ -6,10 +6,11 @@
 #include <regex>
 #include <tuple>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
 #include "core/parameter_set.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -29,6 +30,13 @@ struct ExtraChannel {
   std::regex pattern;  // captures material, side, number
 };
 
+// A recording's number in its file name: digits the name pattern matched, refused when too many.
+int recording_number(const std::string& digits, const fs::path& file) {
+  const auto number = parse_number<int>(digits);
+  if (!number) throw DatasetError(fmt::format("{}: recording number {} is too large", file.string(), digits));
+  return *number;
+}
+
 // Files of one kind under `folder` (any depth), by recording.
 std::map<RecordingKey, fs::path> index_files(const fs::path& folder, const std::regex& pattern) {
   if (!fs::is_directory(folder)) {
@@ -39,7 +47,7 @@ std::map<RecordingKey, fs::path> index_files(const fs::path& folder, const std::
     std::smatch match;
     const std::string name = entry.path().filename().string();
     if (entry.is_regular_file() && std::regex_match(name, match, pattern)) {
-      files[{match[1], match[2], std::stoi(match[3])}] = entry.path();
+      files[{match[1], match[2], recording_number(match[3], entry.path())}] = entry.path();
     }
   }
   return files;
@@ -91,7 +99,7 @@ DatasetScan scan_lmt108(const fs::path& root, const ParameterSet& params) {
                                        folder));
       }
       group_of_material(match[1], entry.path());
-      axes[{match[1], side, std::stoi(match[4])}][match[2]] = entry.path();
+      axes[{match[1], side, recording_number(match[4], entry.path())}][match[2]] = entry.path();
     }
   }
   if (axes.empty()) {

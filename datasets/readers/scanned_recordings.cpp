@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "core/parallel_for.h"
 #include "datasets/segment_cache.h"
 

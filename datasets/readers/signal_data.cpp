@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

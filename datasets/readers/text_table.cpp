@@ -6,9 +6,11 @@
 #include <cmath>
 #include <fstream>
 
-#include "core/dataset_error.h"
+#include "core/csv_text.h"
+#include "core/error.h"
 #include "datasets/readers/regular_file.h"
 #include "core/shown_text.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -19,24 +21,6 @@ std::string trimmed(const std::string& text) {
   if (first == std::string::npos) return {};
   const auto last = text.find_last_not_of(" \t\r\n");
   return text.substr(first, last - first + 1);
-}
-
-std::vector<std::string> split_fields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  bool quoted = false;
-  for (char c : line) {
-    if (c == '"') {
-      quoted = !quoted;
-    } else if (c == ',' && !quoted) {
-      fields.push_back(trimmed(field));
-      field.clear();
-    } else {
-      field += c;
-    }
-  }
-  fields.push_back(trimmed(field));
-  return fields;
 }
 
 std::ifstream open_or_throw(const std::filesystem::path& path) {
@@ -80,7 +64,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
   int line_number = 0;
   while (next_line(in, line, line_number)) {
     if (blank(line)) continue;
-    auto fields = split_fields(line);
+    auto fields = csv_fields(line);
     if (table.header.empty()) {
       table.header = std::move(fields);
       continue;
@@ -98,16 +82,10 @@ TextTable read_text_table(const std::filesystem::path& path) {
 }
 
 float parse_finite_float(const std::string& field, const std::string& where) {
-  float value = 0;
-  const char* first = field.data();
-  const char* last = field.data() + field.size();
-  if (first != last && *first == '+') ++first;
-  const auto [end, error] = std::from_chars(first, last, value);
-  if (field.empty() || error != std::errc() || end != last) {
-    throw DatasetError(fmt::format("{}: '{}' is not a number", where, shown_text(field)));
-  }
-  if (!std::isfinite(value)) throw DatasetError(fmt::format("{}: {} found, expected a finite number", where, field));
-  return value;
+  const auto value = parse_number<float>(field);
+  if (!value) throw DatasetError(fmt::format("{}: '{}' is not a number", where, shown_text(field)));
+  if (!std::isfinite(*value)) throw DatasetError(fmt::format("{}: {} found, expected a finite number", where, field));
+  return *value;
 }
 
 SignalData read_single_column(const std::filesystem::path& path) {

@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/regular_file.h"
 
 namespace fscil {

@@ -9,7 +9,7 @@
 #include <set>
 #include <vector>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "core/seeded_shuffle.h"
 
 // The golden values below were computed once with these functions and cross-checked against an

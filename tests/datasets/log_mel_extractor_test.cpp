@@ -6,7 +6,7 @@
 #include <complex>
 #include <random>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "core/random_draws.h"
 
 namespace fscil {

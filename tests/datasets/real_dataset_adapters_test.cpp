@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "core/parameter_set.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/datasets/prepare_from_root.h"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
 #include "datasets/segment_cache.h"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "datasets/dataset_catalog.h"
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/hdf5_file.h"
 #include "datasets/log_mel_extractor.h"
 #include "core/parameter_set.h"

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 
 namespace fscil {
 namespace {

@@ -8,7 +8,7 @@
 // whatever size a record declares (31 GB in the first 10-minute run): upstream's code, not ours.
 #include <torch/torch.h>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/fuzz_torch_setup.h"

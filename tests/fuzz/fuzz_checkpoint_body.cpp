@@ -18,7 +18,7 @@
 #include <sstream>
 
 #include "core/stable_hash.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/fuzz_torch_setup.h"

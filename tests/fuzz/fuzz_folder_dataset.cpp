@@ -4,7 +4,7 @@
 // (a.txt, b.txt, c.txt, so that a manifest can name one per channel).
 #include <array>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/folder_adapter.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -1,7 +1,7 @@
 // Reference-number files: what loads is written back and loads again to as many values, anything
 // else is a ReportError naming file and line.
 #include "reports/reference_numbers.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "tests/fuzz/fuzz_support.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

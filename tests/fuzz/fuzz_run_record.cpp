@@ -1,6 +1,6 @@
 // Result files: an accepted record is written back and read again unchanged in its sessions,
 // anything else is a ReportError naming the file.
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/run_record.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -3,7 +3,7 @@
 #include <set>
 
 #include "tests/fuzz/fuzz_support.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/options/seed_list.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/text_table.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/readers/wav_file.h"
 #include "tests/fuzz/fuzz_support.h"
 

@@ -8,7 +8,7 @@
 #include "methods/method_registry.h"
 #include "methods/orco/orco_method.h"
 #include "core/parameter_set.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {

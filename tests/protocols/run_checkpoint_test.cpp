@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "core/stable_hash.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 

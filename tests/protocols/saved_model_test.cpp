@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <fstream>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {

@@ -9,7 +9,7 @@
 #include <set>
 
 #include "core/parameter_set.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 
 namespace fscil {
 namespace {

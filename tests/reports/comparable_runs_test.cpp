@@ -4,7 +4,7 @@
 
 #include <fstream>
 
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/run_record.h"
 #include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"

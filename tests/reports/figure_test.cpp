@@ -14,7 +14,7 @@
 #include "reports/figure_style.h"
 #include "reports/figure_writer.h"
 #include "reports/pgfplots_figure.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/svg_figure.h"
 #include "core/text_file.h"
 #include "tests/reports/markup_checks.h"

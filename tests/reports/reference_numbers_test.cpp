@@ -7,7 +7,7 @@
 #include <functional>
 
 #include "core/atomic_file.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 

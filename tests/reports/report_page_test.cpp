@@ -7,7 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "reports/figure_writer.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "core/text_file.h"
 #include "tests/reports/markup_checks.h"
 #include "tests/temporary_directory.h"

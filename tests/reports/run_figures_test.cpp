@@ -5,7 +5,7 @@
 #include <cmath>
 #include <map>
 
-#include "core/report_error.h"
+#include "core/error.h"
 #include "tests/reports/session_runs.h"
 
 namespace fscil {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <limits>
 
-#include "core/report_error.h"
+#include "core/error.h"
 #include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 
@@ -29,7 +29,7 @@ RunRecord cell_run(const std::string& key, const std::string& value, std::vector
 std::string load_error(const fs::path& path) {
   try {
     load_paper_analyses(path);
-  } catch (const ReportError& error) {
+  } catch (const Error& error) {  // ReportError for a bad file, FileError for a missing one
     return error.what();
   }
   return "loaded";

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <map>
 
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/run_record.h"
 #include "tests/temporary_directory.h"
 

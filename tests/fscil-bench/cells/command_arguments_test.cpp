@@ -1,8 +1,12 @@
 #include "tools/fscil-bench/cells/command_arguments.h"
 
+#include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <set>
+
+#include "tools/fscil-bench/options/run_option_table.h"
 
 namespace fscil {
 namespace {
@@ -30,6 +34,50 @@ TEST(CommandArguments, WriteEveryOptionAndTheSweepWithoutThreadsResumeOrCell) {
       "--no-stage-cache", "--save-model", "--set", "pic_weight=0.1", "--set", "shot=3"};
   EXPECT_EQ(words, expected);
   EXPECT_EQ(command_arguments(options, {}).front(), "--methods");
+}
+
+// The one option table both declares the options and writes them: what it writes parses back to
+// the same options, and what it leaves out (threads, cell) keeps its default.
+TEST(RunOptionTable, WrittenOptionsParseBackToTheSameOptions) {
+  RunOptions options;
+  options.methods = "prototype";
+  options.dataset = "simtex-mini";
+  options.profile = "paper";
+  options.seeds = "2-4";
+  options.threads = 3;
+  options.cell = 1;
+  options.out = "somewhere else";
+  options.features = "on-demand";
+  options.split_mode = "segment";
+  options.class_order = "shuffled";
+  options.evaluate_on = "validation";
+  options.selection = "test-oracle";
+  options.data_root = "/data";
+  options.cache_dir = "/cache";
+  options.no_cache = true;
+  options.no_stage_cache = true;
+  options.save_embeddings = "0,9";
+  options.save_model = true;
+  options.max_memory = "4G";
+  options.assignments = {"shot=3", "way=4"};
+  options.quiet = true;
+  std::vector<std::string> words = {"fscil-bench"};
+  for (const auto& word : run_option_words(options)) words.push_back(word);
+  std::vector<char*> argv;
+  for (auto& word : words) argv.push_back(word.data());
+  CLI::App app;
+  RunOptions parsed;
+  declare_run_options(app, parsed);
+  app.parse(static_cast<int>(argv.size()), argv.data());
+  EXPECT_EQ(run_option_words(parsed), run_option_words(options));
+  EXPECT_EQ(parsed.threads, 0);
+  EXPECT_EQ(parsed.cell, -1);
+  EXPECT_EQ(parsed.max_memory, "4G");
+  EXPECT_EQ(parsed.assignments, options.assignments);
+  EXPECT_TRUE(parsed.no_cache && parsed.no_stage_cache && parsed.save_model && parsed.quiet);
+  // Every row is a distinct option.
+  std::set<std::string> names;
+  for (const auto& row : run_option_table()) EXPECT_TRUE(names.insert(row.name).second) << row.name;
 }
 
 // What the shell reads back from the line is the words themselves.

@@ -5,7 +5,7 @@
 #include <functional>
 #include <optional>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {

@@ -6,7 +6,7 @@
 #include <set>
 
 #include "tests/temporary_directory.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 
 namespace fscil {
 namespace {
@@ -69,7 +69,8 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
       EXPECT_NE(std::string(error.what()).find(message), std::string::npos) << error.what();
     }
   }
-  EXPECT_THROW(with_config_file({"fscil-bench"}, directory.path() / "missing.json", run_option), CliError);
+  // Read by the one file reader: a bad input naming the file (exit 1), not a malformed option.
+  EXPECT_THROW(with_config_file({"fscil-bench"}, directory.path() / "missing.json", run_option), FileError);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 
 namespace fscil {
 namespace {

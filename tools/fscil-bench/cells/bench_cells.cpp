@@ -11,13 +11,14 @@
 #include "core/parameter_set.h"
 #include "protocols/profiles.h"
 #include "reports/run_record.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/options/dataset_defaults.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/report_writer.h"
 #include "tools/fscil-bench/options/seed_list.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
 #include "tools/fscil-bench/options/sweep_grid.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -32,12 +33,15 @@ struct MethodGroup {
   std::int64_t epochs = 0;
 };
 
-// The base session's epochs, which dominate a run's cost (sessions train on a few shots).
-std::int64_t base_epochs(const ParameterSet& read) {
+// The base session's epochs, which dominate a run's cost (sessions train on a few shots): the
+// method's base-epoch parameters as it read them.
+std::int64_t base_epochs(const std::string& method, const ParameterSet& read) {
   std::int64_t epochs = 0;
-  for (const char* key : {"pretrain_epochs", "pit_epochs", "orco_base_epochs"}) {
+  for (const std::string& key : method_entry(method).base_epoch_keys) {
     if (const auto found = read.used().find(key); found != read.used().end()) {
-      epochs += std::strtoll(found->second.c_str(), nullptr, 10);
+      const auto value = parse_number<std::int64_t>(found->second);
+      if (!value) throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, found->second));
+      epochs += *value;
     }
   }
   return epochs;
@@ -55,7 +59,7 @@ std::vector<MethodGroup> method_groups(const RunOptions& options) {
     const std::string key = create_method(name, read)->shared_base_key();
     const auto same = key.empty() ? keys.end() : std::find(keys.begin(), keys.end(), key);
     if (same == keys.end()) {
-      groups.push_back({{name}, base_epochs(read)});
+      groups.push_back({{name}, base_epochs(name, read)});
       keys.push_back(key);
     } else {
       auto& group = groups[static_cast<std::size_t>(same - keys.begin())];

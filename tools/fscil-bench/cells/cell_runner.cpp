@@ -20,9 +20,10 @@
 #include "metrics/resource_usage.h"
 #include "core/stop_request.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/cells/command_arguments.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
+#include "core/parallel_for.h"
 
 extern char** environ;
 
@@ -44,7 +45,7 @@ pid_t spawn_cell(const std::string& executable, const std::vector<std::string>& 
   pid_t pid = 0;
   const int error = posix_spawn(&pid, executable.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) throw CliError(fmt::format("{}: cannot start a cell ({})", executable, std::strerror(error)));
+  if (error != 0) throw Error(fmt::format("{}: cannot start a cell ({})", executable, std::strerror(error)));
   return pid;
 }
 
@@ -67,8 +68,7 @@ std::string exit_text(int status) {
 }  // namespace
 
 int threads_per_cell(int threads, int jobs) {
-  const int total = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return std::max(1, total / std::max(1, jobs));
+  return std::max(1, thread_count(threads) / std::max(1, jobs));
 }
 
 std::string run_cells(const RunOptions& options, const std::vector<std::string>& grid, int jobs,
@@ -114,7 +114,7 @@ std::string run_cells(const RunOptions& options, const std::vector<std::string>&
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
       continue;
     }
-    if (pid < 0) throw CliError(fmt::format("run-cells: waiting for the cells failed ({})", std::strerror(errno)));
+    if (pid < 0) throw Error(fmt::format("run-cells: waiting for the cells failed ({})", std::strerror(errno)));
     const auto found = running.find(pid);
     if (found == running.end()) continue;
     const int cell = found->second.cell;
@@ -129,7 +129,7 @@ std::string run_cells(const RunOptions& options, const std::vector<std::string>&
   }
   stop_if_requested();
   if (!failed.empty()) {
-    throw CliError(fmt::format("run-cells: {} of {} cells failed: {}", failed.size(), cells.size(),
+    throw Error(fmt::format("run-cells: {} of {} cells failed: {}", failed.size(), cells.size(),
                                fmt::join(failed, "; ")));
   }
   return write_command_tables(options, grid) +

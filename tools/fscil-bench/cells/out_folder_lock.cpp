@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "core/protocol_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

@@ -4,7 +4,7 @@
 
 #include <filesystem>
 
-#include "core/dataset_error.h"
+#include "core/error.h"
 #include "datasets/hdf5_file.h"
 #include "datasets/log_mel_extractor.h"
 

@@ -4,7 +4,7 @@
 
 #include "core/atomic_file.h"
 #include "reports/reference_numbers.h"
-#include "core/report_error.h"
+#include "core/error.h"
 #include "reports/run_record.h"
 
 namespace fscil {

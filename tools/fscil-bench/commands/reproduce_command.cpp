@@ -15,7 +15,7 @@
 #include "reports/selection_bias.h"
 #include "reports/setting_table.h"
 #include "reports/summary_table.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/options/data_folder.h"
 #include "reports/embedding_figure.h"
 #include "tools/fscil-bench/commands/report_writer.h"

@@ -1,19 +1,18 @@
 #include "tools/fscil-bench/commands/rerun_command.h"
 
+#include <variant>
+
+#include "tools/fscil-bench/options/run_option_table.h"
+
 namespace fscil {
 
 RunOptions rerun_options(const RunRecord& record, const RunOptions& where) {
   RunOptions run;
-  run.out = where.out;
+  // Where and how this command runs: its own options; the rest comes from the record.
+  for (const auto& option : run_option_table()) {
+    if (!option.from_result_file) std::visit([&](auto member) { run.*member = where.*member; }, option.member);
+  }
   run.resume = where.resume;
-  run.data_root = where.data_root;
-  run.cache_dir = where.cache_dir;
-  run.no_cache = where.no_cache;
-  run.no_stage_cache = where.no_stage_cache;
-  run.features = where.features;
-  run.save_model = where.save_model;
-  run.save_embeddings = where.save_embeddings;
-  run.quiet = where.quiet;
 
   run.methods = record.method;
   run.dataset = record.dataset;

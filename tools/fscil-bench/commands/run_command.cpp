@@ -8,9 +8,9 @@
 #include <cstdlib>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
-#include <thread>
 
 #include "datasets/dataset_catalog.h"
 #include "datasets/hdf5_file.h"
@@ -19,7 +19,7 @@
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
-#include "core/protocol_error.h"
+#include "core/error.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/saved_model.h"
@@ -32,6 +32,8 @@
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/report_writer.h"
 #include "tools/fscil-bench/options/seed_list.h"
+#include "core/number_text.h"
+#include "core/parallel_for.h"
 
 namespace fscil {
 
@@ -133,13 +135,12 @@ std::function<bool(int)> sessions_to_save(const std::string& text, int sessions)
   while (start <= text.size()) {
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const std::string field = text.substr(start, comma - start);
-    char* end = nullptr;
-    const long session = std::strtol(field.c_str(), &end, 10);
-    if (field.empty() || *end != '\0' || session < 0 || session >= sessions) {
+    const auto session = parse_number<int>(field);
+    if (!session || *session < 0 || *session >= sessions) {
       throw ProtocolError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0 to {}, "
                                       "comma-separated", text, sessions - 1));
     }
-    chosen.insert(static_cast<int>(session));
+    chosen.insert(*session);
     start = comma + 1;
   }
   return [chosen](int session) { return chosen.count(session) > 0; };
@@ -162,15 +163,29 @@ struct SavedEmbeddings {
   }
 };
 
-}  // namespace
+// What every run of the command shares, fixed before the first one trains: its methods and seeds,
+// the values that shape a run, the prepared data and each seed's sessions.
+struct CommandPlan {
+  std::vector<std::string> method_names;
+  std::vector<std::uint64_t> seeds;
+  int threads = 0;
+  ParameterSet params;                     // dataset defaults, profile and --set: what each run starts from
+  std::vector<ParameterSet> method_params;  // what each method read of them
+  ParameterSet protocol_params, dataset_params;
+  bool recompute_activations = false;
+  EvaluationSplit evaluation{};
+  EpochSelection selection{};
+  std::int64_t memory_limit = 0;
+  std::shared_ptr<MemoryBudget> memory_budget;  // one for the command: a handed-on base keeps its encoder
+  PreparedDataset dataset;
+  InputShape input{};
+  std::vector<SessionSchedule> schedules;  // one per seed
+  std::function<bool(int)> save_session;   // --save-embeddings
+  // The values runs of one table must share (RunRecord::protocol_parameters).
+  std::map<std::string, std::string> protocol_parameters;
+};
 
-int configure_threads(int requested) {
-  const int threads = requested > 0 ? requested : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  torch::set_num_threads(threads);
-  return threads;
-}
-
-std::string run_benchmark(const RunOptions& options) {
+void check_run_options(const RunOptions& options) {
   if (options.out.empty()) throw ProtocolError("--out '': expected a folder for the results");
   if (!is_selection_name(options.selection)) {
     throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
@@ -179,301 +194,413 @@ std::string run_benchmark(const RunOptions& options) {
     throw ProtocolError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the "
                                     "interrupted command)", options.out));
   }
-  const auto method_names = resolve_method_names(options.methods);
-  const auto seeds = parse_seed_list(options.seeds);
-  const int threads = configure_threads(options.threads);
-  const ParameterSet params = base_parameters(options);
-  ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
+}
 
-  // Methods read their hyper-parameters on construction, so a bad value fails here, early.
-  std::vector<ParameterSet> method_params;
-  for (const auto& name : method_names) {
-    method_params.push_back(params);
-    create_method(name, method_params.back());
+// Each seed's session schedule; refuses, before any training, a split the data lacks.
+std::vector<SessionSchedule> session_schedules(const RunOptions& options, CommandPlan& plan, SplitMode split_mode) {
+  std::vector<SessionSchedule> schedules;
+  const auto& description = plan.dataset.description;
+  for (std::uint64_t seed : plan.seeds) {
+    const SessionPlan session_plan = make_session_plan(static_cast<int>(description.class_names.size()),
+                                                       description.sessions, plan.protocol_params, seed);
+    try {
+      schedules.push_back(build_session_schedule(plan.dataset.segments, description.class_names, session_plan,
+                                                 split_mode, seed));
+      schedules.back().scored_segments(plan.evaluation);
+    } catch (const ProtocolError& error) {
+      const std::string where = options.data_root.empty() ? "" : fmt::format(" in {}", options.data_root);
+      throw ProtocolError(fmt::format("dataset {}{}, {}-way {}-shot: {}", options.dataset, where, session_plan.way,
+                                      session_plan.shot, error.what()));
+    }
   }
-  ParameterSet protocol_params = params;
-  const SplitMode split_mode = parse_split_mode(protocol_params.text("split_mode", "recording"));
+  return schedules;
+}
+
+// Step 1: every option, method and value checked, the data prepared, the sessions drawn.
+CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) {
+  check_run_options(options);
+  CommandPlan plan;
+  plan.method_names = resolve_method_names(options.methods);
+  plan.seeds = parse_seed_list(options.seeds);
+  plan.threads = configure_threads(options.threads);
+  plan.params = base_parameters(options);
+  // Methods read their hyper-parameters on construction, so a bad value fails here, early.
+  for (const auto& name : plan.method_names) {
+    plan.method_params.push_back(plan.params);
+    create_method(name, plan.method_params.back());
+  }
+  plan.protocol_params = plan.params;
+  const SplitMode split_mode = parse_split_mode(plan.protocol_params.text("split_mode", "recording"));
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
-  const bool recompute_activations = protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
-  const EvaluationSplit evaluation = parse_evaluation_split(options.evaluate_on);
-  const EpochSelection selection = options.selection == "validation"    ? EpochSelection::validation
-                                   : options.selection == "test-oracle" ? EpochSelection::test_oracle
-                                                                        : EpochSelection::last;
-  const std::int64_t memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
-  // One budget for the command: a base handed on between runs keeps its encoder, and with it this.
-  const auto memory_budget = memory_limit > 0 ? std::make_shared<MemoryBudget>(memory_limit) : nullptr;
-  if (memory_limit > 0) return_large_blocks_to_the_kernel();
+  plan.recompute_activations = plan.protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
+  plan.evaluation = parse_evaluation_split(options.evaluate_on);
+  plan.selection = options.selection == "validation"    ? EpochSelection::validation
+                   : options.selection == "test-oracle" ? EpochSelection::test_oracle
+                                                        : EpochSelection::last;
+  plan.memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
+  if (plan.memory_limit > 0) plan.memory_budget = std::make_shared<MemoryBudget>(plan.memory_limit);
+  if (plan.memory_limit > 0) return_large_blocks_to_the_kernel();
 
   DatasetRequest request;
   request.data_root = options.data_root;
   request.cache_dir = options.no_cache ? fs::path() : cache_folder(options);
-  request.threads = threads;
+  request.threads = plan.threads;
   request.features = parse_feature_storage(options.features);
-  ParameterSet dataset_params = params;
+  plan.dataset_params = plan.params;
   progress.stage(fmt::format("preparing dataset {}", options.dataset));
   Stopwatch dataset_clock;
-  const PreparedDataset dataset = prepare_dataset(options.dataset, request, dataset_params, std::cerr);
-  const InputShape input = input_shape_of(dataset);
-  progress.note(fmt::format("{} segments of shape {}x{}x{} ready in {:.1f}s", dataset.segments.count(), input.channels,
-                            input.mel_bins, input.frames, dataset_clock.seconds()));
+  plan.dataset = prepare_dataset(options.dataset, request, plan.dataset_params, std::cerr);
+  plan.input = input_shape_of(plan.dataset);
+  progress.note(fmt::format("{} segments of shape {}x{}x{} ready in {:.1f}s", plan.dataset.segments.count(),
+                            plan.input.channels, plan.input.mel_bins, plan.input.frames, dataset_clock.seconds()));
 
-  std::vector<SessionSchedule> schedules;
-  for (std::uint64_t seed : seeds) {
-    const SessionPlan plan = make_session_plan(static_cast<int>(dataset.description.class_names.size()),
-                                               dataset.description.sessions, protocol_params, seed);
-    try {
-      schedules.push_back(build_session_schedule(dataset.segments, dataset.description.class_names, plan, split_mode,
-                                                 seed));
-      schedules.back().scored_segments(evaluation);  // refuses, before any training, a split the data lacks
-    } catch (const ProtocolError& error) {
-      const std::string where = options.data_root.empty() ? "" : fmt::format(" in {}", options.data_root);
-      throw ProtocolError(fmt::format("dataset {}{}, {}-way {}-shot: {}", options.dataset, where, plan.way, plan.shot,
-                                      error.what()));
-    }
-  }
-  const auto save_session = sessions_to_save(options.save_embeddings, schedules.front().plan.sessions);
-  std::vector<const ParameterSet*> readers = {&protocol_params, &dataset_params};
-  for (const auto& method_param : method_params) readers.push_back(&method_param);
-  reject_unread_keys(params, readers);
+  plan.schedules = session_schedules(options, plan, split_mode);
+  plan.save_session = sessions_to_save(options.save_embeddings, plan.schedules.front().plan.sessions);
+  std::vector<const ParameterSet*> readers = {&plan.protocol_params, &plan.dataset_params};
+  for (const auto& method_param : plan.method_params) readers.push_back(&method_param);
+  reject_unread_keys(plan.params, readers);
 
-  std::map<std::string, std::string> protocol_parameters = dataset_params.used();
-  for (const auto& [key, value] : protocol_params.used()) protocol_parameters[key] = value;
+  plan.protocol_parameters = plan.dataset_params.used();
+  for (const auto& [key, value] : plan.protocol_params.used()) plan.protocol_parameters[key] = value;
   // Like recompute: the same numbers, another peak. Named only when given, so runs without it
   // keep their identity.
-  if (memory_limit > 0) protocol_parameters["max_memory"] = std::to_string(memory_limit);
+  if (plan.memory_limit > 0) plan.protocol_parameters["max_memory"] = std::to_string(plan.memory_limit);
   // Chosen on test or on validation: never one table with runs of the last epoch (named only when
   // given, like max_memory).
-  if (options.selection != "last") protocol_parameters["selection"] = options.selection;
-  // What a run of this command is before it trains: its identity, and the start of its record.
-  const auto planned_run = [&](const std::string& method, const ParameterSet& method_parameters, std::uint64_t seed) {
-    RunRecord run;
-    run.method = method;
-    run.dataset = options.dataset;
-    run.profile = options.profile;
-    run.seed = seed;
-    run.threads = threads;
-    run.evaluated_on = to_string(evaluation);
-    run.selection = options.selection;
-    run.grid = options.grid;
-    run.parameters = method_parameters.used();
-    for (const auto& [key, value] : protocol_parameters) run.parameters[key] = value;
-    run.protocol_parameters = protocol_parameters;
-    run.dataset_key = dataset.cache_key;
-    return run;
-  };
+  if (options.selection != "last") plan.protocol_parameters["selection"] = options.selection;
+  return plan;
+}
+
+// What a run of the command is before it trains: its identity, and the start of its record.
+RunRecord planned_run(const RunOptions& options, const CommandPlan& plan, const std::string& method,
+                      const ParameterSet& method_parameters, std::uint64_t seed) {
+  RunRecord run;
+  run.method = method;
+  run.dataset = options.dataset;
+  run.profile = options.profile;
+  run.seed = seed;
+  run.threads = plan.threads;
+  run.evaluated_on = to_string(plan.evaluation);
+  run.selection = options.selection;
+  run.grid = options.grid;
+  run.parameters = method_parameters.used();
+  for (const auto& [key, value] : plan.protocol_parameters) run.parameters[key] = value;
+  run.protocol_parameters = plan.protocol_parameters;
+  run.dataset_key = plan.dataset.cache_key;
+  return run;
+}
+
+// Step 2: --out may take these runs (they can share its tables), and this command holds it.
+OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& plan) {
   std::vector<RunRecord> planned;
-  for (std::size_t m = 0; m < method_names.size(); ++m) {
-    planned.push_back(planned_run(method_names[m], method_params[m], seeds.front()));
+  for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
+    planned.push_back(planned_run(options, plan, plan.method_names[m], plan.method_params[m], plan.seeds.front()));
   }
   require_room_for(planned, options);
   std::vector<std::string> cell_runs;  // what a --cell command holds of the folder
-  for (const auto& method : method_names) {
-    for (std::uint64_t seed : seeds) cell_runs.push_back(checkpoint_path("", method, options.dataset, seed).stem().string());
+  for (const auto& method : plan.method_names) {
+    for (std::uint64_t seed : plan.seeds) {
+      cell_runs.push_back(checkpoint_path("", method, options.dataset, seed).stem().string());
+    }
   }
-  const OutFolderLock lock = options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, cell_runs);
+  return options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, cell_runs);
+}
 
-  const auto machine = describe_machine();
-  const std::string commit = source_commit();
-  // The executable is read only when the stage cache is in use.
-  const std::string code = options.no_cache || options.no_stage_cache ? std::string() : code_digest(machine);
-  const bool stage_caching = !code.empty();
-  const StageCache stage_cache(cache_folder(options) / "stages");
+// A base session trained or inherited by one run, kept for the next method sharing it.
+struct TrainedBase {
+  std::unique_ptr<Method> method;
+  std::string trained_by;
+  double seconds = 0;
+  std::map<std::string, double> diagnostics;
+  std::vector<EpochLog> training_log;
+};
+
+// What the runs of the command share besides the plan: the machine, the stage cache, the runs
+// --resume keeps, and the bases trained so far (per shared base key and seed).
+struct CommandRuns {
+  std::map<std::string, std::string> machine;
+  std::string commit;
+  std::string code;  // the executable's digest; empty when the stage cache is not in use
+  StageCache stage_cache;
   // What else shapes a base besides the method's values: the front end and dataset knobs (the
   // dataset key covers segments only) and the run-wide recompute (same numbers, another peak).
-  std::map<std::string, std::string> run_values = dataset_params.used();
-  run_values["front_end"] = dataset.description.front_end.describe();
-  run_values["recompute"] = recompute_activations ? "stages" : "none";
-  if (memory_limit > 0) run_values["max_memory"] = std::to_string(memory_limit);
-  std::vector<RunRecord> records;
-  // Per (shared base key, seed): the last method that trained or inherited that base.
-  struct TrainedBase {
-    std::unique_ptr<Method> method;
-    std::string trained_by;
-    double seconds = 0;
-    std::map<std::string, double> diagnostics;
-    std::vector<EpochLog> training_log;
-  };
+  std::map<std::string, std::string> run_values;
+  std::vector<RunRecord> finished;
   std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
-  const std::vector<RunRecord> finished = finished_runs(options);
-  for (std::size_t m = 0; m < method_names.size(); ++m) {
-    for (std::size_t s = 0; s < seeds.size(); ++s) {
-      stop_if_requested();
-      progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", method_names[m], options.dataset, seeds[s],
-                                 m * seeds.size() + s + 1, method_names.size() * seeds.size()));
-      ParameterSet run_params = params;
-      auto method = create_method(method_names[m], run_params);
-      RunRecord record = planned_run(method_names[m], run_params, seeds[s]);
-      const std::string identity = identity_of(record);
-      const fs::path checkpoint_file = checkpoint_path(options.out, method_names[m], options.dataset, seeds[s]);
-      const auto done = std::find_if(finished.begin(), finished.end(), [&](const RunRecord& run) {
-        return run.method == method_names[m] && run.dataset == options.dataset && run.seed == seeds[s];
-      });
-      if (done != finished.end()) {
-        if (identity_of(*done) != identity) {
-          throw ProtocolError(fmt::format("{}/results/{}: a result of another run ({}); resume with the command that "
-                                          "made it, or use another --out", options.out, run_record_file_name(*done),
-                                          identity_of(*done)));
-        }
-        progress.note("finished before the interruption: result kept");
-        records.push_back(*done);
-        std::error_code ignored;
-        fs::remove(checkpoint_file, ignored);
-        continue;
-      }
-      torch::manual_seed(seeds[s]);
-      RunContext context;
-      context.recompute_activations = recompute_activations;
-      context.selection = selection;
-      context.memory_budget = memory_budget;
-      context.seed = seeds[s];
-      context.generator = std::mt19937_64(seeds[s]);
-      context.progress = &progress;
-      reset_peak_resident();
-      Stopwatch run_clock;
-      const std::string base_key = method->shared_base_key();
-      std::optional<InheritedBase> inherited_base;
-      std::string base_trained_by;
-      SessionCheckpoints checkpoints;
-      double seconds_before = 0;
-      // Everything that shapes this run's base session, for the stage cache.
-      std::map<std::string, std::string> base_method_values = run_params.used();
-      for (const std::string& key : method->session_only_parameters()) base_method_values.erase(key);
-      if (options.selection != "last" && !method->base_ignores_selection()) {
-        base_method_values["selection"] = options.selection;
-      }
-      const std::string base_identity =
-          stage_caching ? base_stage_identity({code, base_key.empty() ? method_names[m] : base_key, dataset.cache_key,
-                                               run_values, seeds[s], threads, evaluation, base_method_values,
-                                               &schedules[s]})
-                        : std::string();
-      bool base_from_cache = false;
-      std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
-      // The method and both random states as `saved` left them, its sessions counted as done;
-      // MethodError when the state does not fit the method.
-      const auto continue_from = [&](RunCheckpoint& saved) {
-        describe_protocol(context, dataset, schedules[s]);
-        method->restore_state(saved.method_state, context);
-        context.generator = saved.generator;
-        restore_torch_random_state(saved.torch_random_state);
-        checkpoints.finished = std::move(saved.outcomes);
-        seconds_before = saved.elapsed_seconds;
-      };
-      if (options.resume && fs::exists(checkpoint_file)) {
-        RunCheckpoint saved = load_checkpoint(checkpoint_file, identity);
-        try {
-          continue_from(saved);
-        } catch (const MethodError& error) {
-          throw ProtocolError(fmt::format("{}: checkpoint does not fit {}: {}", checkpoint_file.string(),
-                                          method_names[m], error.what()));
-        }
-        progress.note(fmt::format("continuing after session {} from {}", checkpoints.finished.size() - 1,
-                                  checkpoint_file.string()));
-      } else if (auto found = trained_bases.find({base_key, seeds[s]});
-                 !base_key.empty() && found != trained_bases.end() &&
-                 method->continue_from_base(*found->second.method, context)) {
-        inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics, found->second.training_log};
-        base_trained_by = found->second.trained_by;
-        progress.note(fmt::format("base session shared with {} (same seed, same base training)", base_trained_by));
-      } else if (stage_caching) {
-        const fs::path cached_file = stage_cache.file_of(base_identity);
-        std::string dropped;
-        if (std::optional<RunCheckpoint> cached = stage_cache.find(base_identity, dropped)) {
-          auto& diagnostics = cached->outcomes.front().diagnostics;
-          base_peak_bytes = static_cast<std::int64_t>(diagnostics[kCachedPeakKey]);
-          diagnostics.erase(kCachedPeakKey);
-          try {
-            continue_from(*cached);
-            base_from_cache = true;
-            progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
-                                      cached_file.string(), checkpoints.finished.front().train_seconds));
-          } catch (const MethodError& error) {
-            dropped = fmt::format("{}: does not fit {}: {}", cached_file.string(), method_names[m], error.what());
-            std::error_code ignored;
-            fs::remove(cached_file, ignored);
-            // Start again from scratch: a fresh method, the seed's random states, no sessions done.
-            checkpoints.finished.clear();
-            seconds_before = 0;
-            base_peak_bytes = 0;
-            run_params = params;
-            method = create_method(method_names[m], run_params);
-            torch::manual_seed(seeds[s]);
-            context.generator = std::mt19937_64(seeds[s]);
-          }
-        }
-        if (!dropped.empty()) progress.note(fmt::format("stage cache entry dropped, the base is trained again: {}", dropped));
-      }
-      checkpoints.after_session = [&](const std::vector<SessionOutcome>& so_far) {
-        RunCheckpoint now{identity, so_far, seconds_before + run_clock.seconds(), method->save_state(),
-                          context.generator, torch_random_state()};
-        save_checkpoint(checkpoint_file, now);
-        if (so_far.size() != 1 || !stage_caching || base_from_cache) return;
-        try {
-          now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
-          stage_cache.store(base_identity, now);
-        } catch (const std::exception& error) {  // a cache that cannot be written costs time, not the run
-          progress.note(fmt::format("stage cache not written: {}", error.what()));
-        }
-      };
-      SavedEmbeddings saved_embeddings;
-      ScoredEmbeddingSink keep_embeddings;
-      if (save_session) {
-        keep_embeddings = [&](int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels) {
-          if (!save_session(session)) return;
-          const torch::Tensor rows = embeddings.to(torch::kFloat).contiguous();
-          FloatArray array({rows.size(0), rows.size(1)});
-          std::copy(rows.data_ptr<float>(), rows.data_ptr<float>() + rows.numel(), array.values.begin());
-          saved_embeddings.embeddings[session] = std::move(array);
-          saved_embeddings.labels[session] = std::vector<std::int32_t>(labels.begin(), labels.end());
-        };
-      }
-      const auto outcomes = run_sessions(*method, dataset, schedules[s], context, evaluation, inherited_base,
-                                         checkpoints, keep_embeddings);
-      if (save_session) {
-        saved_embeddings.write(fs::path(options.out) / "embeddings" /
-                                   fs::path(run_record_file_name(record)).replace_extension(".h5"),
-                               schedules[s].plan.base_classes);
-      }
-      if (options.save_model) {
-        save_model(fs::path(options.out) / "models" / fs::path(run_record_file_name(record)).replace_extension(".pt"),
-                   method->save_state());
-      }
-      const InferenceTiming timing = time_inference(*method, dataset, schedules[s]);
-      const ModelCost cost = method->inference_cost(input);
+  std::vector<RunRecord> records;
 
-      record.machine = machine;
-      record.version = harness_version();
-      record.git_commit = commit;
-      record.dataset_key = dataset.cache_key;
-      for (const auto& outcome : outcomes) {
-        record.sessions.push_back({outcome.session, outcome.seen_classes, outcome.accuracy, outcome.train_seconds,
-                                   outcome.test_seconds, outcome.context_ratio_mean, outcome.context_ratio_max,
-                                   outcome.diagnostics, outcome.training_log});
-      }
-      record.total_seconds = seconds_before + run_clock.seconds();
-      record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), base_peak_bytes);
-      record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
-                          timing.batch};
-      const ReplayFootprint replay = method->replay_footprint();
-      record.replay_samples = replay.samples;
-      record.replay_bytes = replay.bytes;
-      if (!base_trained_by.empty()) record.parameters["base_training"] = "shared with " + base_trained_by;
-      if (base_from_cache) record.parameters["base_training"] = "from the stage cache";
-      save_run_record(options.out, record);
+  bool stage_caching() const { return !code.empty(); }
+};
+
+CommandRuns start_runs(const RunOptions& options, const CommandPlan& plan) {
+  CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}};
+  // The executable is read only when the stage cache is in use.
+  if (!options.no_cache && !options.no_stage_cache) runs.code = code_digest(runs.machine);
+  runs.run_values = plan.dataset_params.used();
+  runs.run_values["front_end"] = plan.dataset.description.front_end.describe();
+  runs.run_values["recompute"] = plan.recompute_activations ? "stages" : "none";
+  if (plan.memory_limit > 0) runs.run_values["max_memory"] = std::to_string(plan.memory_limit);
+  runs.finished = finished_runs(options);
+  return runs;
+}
+
+// One (method, seed) run while it runs: its method and context, where it started its base.
+struct RunInProgress {
+  std::string method_name;
+  std::uint64_t seed = 0;
+  std::size_t schedule = 0;  // index of the seed
+  ParameterSet params;
+  std::unique_ptr<Method> method;
+  RunRecord record;
+  std::string identity;
+  fs::path checkpoint_file;
+  RunContext context;
+  std::string base_key;       // Method::shared_base_key
+  std::string base_identity;  // the stage cache's key of its base; empty without the cache
+  std::optional<InheritedBase> inherited_base;
+  std::string base_trained_by;
+  bool base_from_cache = false;
+  std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
+  SessionCheckpoints checkpoints;
+  double seconds_before = 0;
+  Stopwatch clock;
+};
+
+// The stage cache's key of the run's base: everything that shapes its base session.
+std::string base_identity_of(const RunOptions& options, const CommandPlan& plan, const CommandRuns& runs,
+                             const RunInProgress& run) {
+  if (!runs.stage_caching()) return {};
+  std::map<std::string, std::string> base_method_values = run.params.used();
+  for (const std::string& key : run.method->session_only_parameters()) base_method_values.erase(key);
+  if (options.selection != "last" && !run.method->base_ignores_selection()) {
+    base_method_values["selection"] = options.selection;
+  }
+  return base_stage_identity({runs.code, run.base_key.empty() ? run.method_name : run.base_key, plan.dataset.cache_key,
+                              runs.run_values, run.seed, plan.threads, plan.evaluation, base_method_values,
+                              &plan.schedules[run.schedule]});
+}
+
+// A fresh method and the seed's random states, as every run starts.
+void start_fresh(const CommandPlan& plan, RunInProgress& run) {
+  run.params = plan.params;
+  run.method = create_method(run.method_name, run.params);
+}
+
+void seed_run(RunInProgress& run) {
+  torch::manual_seed(run.seed);
+  run.context.generator = std::mt19937_64(run.seed);
+}
+
+// The method and both random states as `saved` left them, its sessions counted as done;
+// MethodError when the state does not fit the method.
+void continue_from(const CommandPlan& plan, RunInProgress& run, RunCheckpoint& saved) {
+  describe_protocol(run.context, plan.dataset, plan.schedules[run.schedule]);
+  run.method->restore_state(saved.method_state, run.context);
+  run.context.generator = saved.generator;
+  restore_torch_random_state(saved.torch_random_state);
+  run.checkpoints.finished = std::move(saved.outcomes);
+  run.seconds_before = saved.elapsed_seconds;
+}
+
+// The base from the stage cache, when it holds this base; an entry that does not fit the method
+// is removed and the run starts again from scratch.
+void take_cached_base(const CommandPlan& plan, const CommandRuns& runs, RunInProgress& run, ProgressReporter& progress) {
+  const fs::path cached_file = runs.stage_cache.file_of(run.base_identity);
+  std::string dropped;
+  if (std::optional<RunCheckpoint> cached = runs.stage_cache.find(run.base_identity, dropped)) {
+    auto& diagnostics = cached->outcomes.front().diagnostics;
+    run.base_peak_bytes = static_cast<std::int64_t>(diagnostics[kCachedPeakKey]);
+    diagnostics.erase(kCachedPeakKey);
+    try {
+      continue_from(plan, run, *cached);
+      run.base_from_cache = true;
+      progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
+                                cached_file.string(), run.checkpoints.finished.front().train_seconds));
+    } catch (const MethodError& error) {
+      dropped = fmt::format("{}: does not fit {}: {}", cached_file.string(), run.method_name, error.what());
       std::error_code ignored;
-      fs::remove(checkpoint_file, ignored);  // the result file now holds everything
-      records.push_back(std::move(record));
-      if (!base_key.empty()) {
-        trained_bases[{base_key, seeds[s]}] = {std::move(method), base_trained_by.empty() ? method_names[m] : base_trained_by,
-                                               outcomes.front().train_seconds, outcomes.front().diagnostics,
-                                               outcomes.front().training_log};
-      }
+      fs::remove(cached_file, ignored);
+      run.checkpoints.finished.clear();
+      run.seconds_before = 0;
+      run.base_peak_bytes = 0;
+      start_fresh(plan, run);
+      seed_run(run);
+    }
+  }
+  if (!dropped.empty()) progress.note(fmt::format("stage cache entry dropped, the base is trained again: {}", dropped));
+}
+
+// Step 3: where the run's base session comes from: its own checkpoint (--resume), a method of
+// this command that trained the same base, the stage cache, or training (none of these).
+void choose_base(const RunOptions& options, const CommandPlan& plan, const CommandRuns& runs, RunInProgress& run,
+                 ProgressReporter& progress) {
+  if (options.resume && fs::exists(run.checkpoint_file)) {
+    RunCheckpoint saved = load_checkpoint(run.checkpoint_file, run.identity);
+    try {
+      continue_from(plan, run, saved);
+    } catch (const MethodError& error) {
+      throw ProtocolError(fmt::format("{}: checkpoint does not fit {}: {}", run.checkpoint_file.string(),
+                                      run.method_name, error.what()));
+    }
+    progress.note(fmt::format("continuing after session {} from {}", run.checkpoints.finished.size() - 1,
+                              run.checkpoint_file.string()));
+  } else if (auto found = runs.trained_bases.find({run.base_key, run.seed});
+             !run.base_key.empty() && found != runs.trained_bases.end() &&
+             run.method->continue_from_base(*found->second.method, run.context)) {
+    run.inherited_base = InheritedBase{found->second.seconds, found->second.diagnostics, found->second.training_log};
+    run.base_trained_by = found->second.trained_by;
+    progress.note(fmt::format("base session shared with {} (same seed, same base training)", run.base_trained_by));
+  } else if (runs.stage_caching()) {
+    take_cached_base(plan, runs, run, progress);
+  }
+}
+
+// After every session: the run's checkpoint, and after the base session the stage cache's entry.
+void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, ProgressReporter& progress) {
+  run.checkpoints.after_session = [&runs, &run, &progress](const std::vector<SessionOutcome>& so_far) {
+    RunCheckpoint now{run.identity, so_far, run.seconds_before + run.clock.seconds(), run.method->save_state(),
+                      run.context.generator, torch_random_state()};
+    save_checkpoint(run.checkpoint_file, now);
+    if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
+    try {
+      now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
+      runs.stage_cache.store(run.base_identity, now);
+    } catch (const std::exception& error) {  // a cache that cannot be written costs time, not the run
+      progress.note(fmt::format("stage cache not written: {}", error.what()));
+    }
+  };
+}
+
+// Step 4: the sessions (from where the base left off), and what the run keeps of them on disk.
+std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const CommandPlan& plan, RunInProgress& run) {
+  const SessionSchedule& schedule = plan.schedules[run.schedule];
+  SavedEmbeddings saved_embeddings;
+  ScoredEmbeddingSink keep_embeddings;
+  if (plan.save_session) {
+    keep_embeddings = [&](int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels) {
+      if (!plan.save_session(session)) return;
+      const torch::Tensor rows = embeddings.to(torch::kFloat).contiguous();
+      FloatArray array({rows.size(0), rows.size(1)});
+      std::copy(rows.data_ptr<float>(), rows.data_ptr<float>() + rows.numel(), array.values.begin());
+      saved_embeddings.embeddings[session] = std::move(array);
+      saved_embeddings.labels[session] = std::vector<std::int32_t>(labels.begin(), labels.end());
+    };
+  }
+  const auto outcomes = run_sessions(*run.method, plan.dataset, schedule, run.context, plan.evaluation,
+                                     run.inherited_base, run.checkpoints, keep_embeddings);
+  const fs::path file_name = run_record_file_name(run.record);
+  if (plan.save_session) {
+    saved_embeddings.write(fs::path(options.out) / "embeddings" / fs::path(file_name).replace_extension(".h5"),
+                           schedule.plan.base_classes);
+  }
+  if (options.save_model) {
+    save_model(fs::path(options.out) / "models" / fs::path(file_name).replace_extension(".pt"), run.method->save_state());
+  }
+  return outcomes;
+}
+
+// Step 5: the run's record, written as its result file; its base kept for the next method.
+void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns& runs, RunInProgress& run,
+                const std::vector<SessionOutcome>& outcomes) {
+  const InferenceTiming timing = time_inference(*run.method, plan.dataset, plan.schedules[run.schedule]);
+  const ModelCost cost = run.method->inference_cost(plan.input);
+  RunRecord& record = run.record;
+  record.machine = runs.machine;
+  record.version = harness_version();
+  record.git_commit = runs.commit;
+  record.dataset_key = plan.dataset.cache_key;
+  record.sessions = outcomes;
+  record.total_seconds = run.seconds_before + run.clock.seconds();
+  record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), run.base_peak_bytes);
+  record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
+                      timing.batch};
+  const ReplayFootprint replay = run.method->replay_footprint();
+  record.replay_samples = replay.samples;
+  record.replay_bytes = replay.bytes;
+  if (!run.base_trained_by.empty()) record.parameters["base_training"] = "shared with " + run.base_trained_by;
+  if (run.base_from_cache) record.parameters["base_training"] = "from the stage cache";
+  save_run_record(options.out, record);
+  std::error_code ignored;
+  fs::remove(run.checkpoint_file, ignored);  // the result file now holds everything
+  runs.records.push_back(std::move(record));
+  if (!run.base_key.empty()) {
+    runs.trained_bases[{run.base_key, run.seed}] = {std::move(run.method),
+                                                    run.base_trained_by.empty() ? run.method_name : run.base_trained_by,
+                                                    outcomes.front().train_seconds, outcomes.front().diagnostics,
+                                                    outcomes.front().training_log};
+  }
+}
+
+// One (method, seed) run of the command, or its result kept from before an interruption.
+void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& runs, std::size_t m, std::size_t s,
+             ProgressReporter& progress) {
+  RunInProgress run;
+  run.method_name = plan.method_names[m];
+  run.seed = plan.seeds[s];
+  run.schedule = s;
+  start_fresh(plan, run);
+  run.record = planned_run(options, plan, run.method_name, run.params, run.seed);
+  run.identity = identity_of(run.record);
+  run.checkpoint_file = checkpoint_path(options.out, run.method_name, options.dataset, run.seed);
+  const auto done = std::find_if(runs.finished.begin(), runs.finished.end(), [&](const RunRecord& earlier) {
+    return earlier.method == run.method_name && earlier.dataset == options.dataset && earlier.seed == run.seed;
+  });
+  if (done != runs.finished.end()) {
+    if (identity_of(*done) != run.identity) {
+      throw ProtocolError(fmt::format("{}/results/{}: a result of another run ({}); resume with the command that "
+                                      "made it, or use another --out", options.out, run_record_file_name(*done),
+                                      identity_of(*done)));
+    }
+    progress.note("finished before the interruption: result kept");
+    runs.records.push_back(*done);
+    std::error_code ignored;
+    fs::remove(run.checkpoint_file, ignored);
+    return;
+  }
+  torch::manual_seed(run.seed);
+  run.context.recompute_activations = plan.recompute_activations;
+  run.context.selection = plan.selection;
+  run.context.memory_budget = plan.memory_budget;
+  run.context.seed = run.seed;
+  run.context.generator = std::mt19937_64(run.seed);
+  run.context.progress = &progress;
+  reset_peak_resident();
+  run.clock = Stopwatch();
+  run.base_key = run.method->shared_base_key();
+  run.base_identity = base_identity_of(options, plan, runs, run);
+  choose_base(options, plan, runs, run, progress);
+  checkpoint_after_each_session(runs, run, progress);
+  const auto outcomes = run_the_sessions(options, plan, run);
+  record_run(options, plan, runs, run, outcomes);
+}
+
+}  // namespace
+
+int configure_threads(int requested) {
+  const int threads = thread_count(requested);
+  torch::set_num_threads(threads);
+  return threads;
+}
+
+std::string run_benchmark(const RunOptions& options) {
+  ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
+  const CommandPlan plan = plan_command(options, progress);
+  const OutFolderLock lock = claim_out_folder(options, plan);
+  CommandRuns runs = start_runs(options, plan);
+  for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
+    for (std::size_t s = 0; s < plan.seeds.size(); ++s) {
+      stop_if_requested();
+      progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", plan.method_names[m], options.dataset,
+                                 plan.seeds[s], m * plan.seeds.size() + s + 1,
+                                 plan.method_names.size() * plan.seeds.size()));
+      run_one(options, plan, runs, m, s, progress);
     }
   }
   if (options.cell >= 0) {
     return fmt::format("Cell {}: {} result file(s) in {}/results/; tables over every cell: fscil-bench report\n",
-                       options.cell, records.size(), options.out);
+                       options.cell, runs.records.size(), options.out);
   }
-  return write_reports(options.out, records) +
+  return write_reports(options.out, runs.records) +
          fmt::format("Results: {0}/summary.csv, {0}/sessions.csv, {0}/results.tex, costs in {0}/costs.csv and "
                      "{0}/costs.tex, one JSON per run in {0}/results/\n", options.out);
 }

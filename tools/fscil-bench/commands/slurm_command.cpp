@@ -5,10 +5,11 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <regex>
 
 #include "core/atomic_file.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/cells/command_arguments.h"
 
 namespace fscil {
@@ -16,6 +17,32 @@ namespace fscil {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Every value that reaches an #SBATCH line, checked as what it is, so neither sbatch nor bash can
+// read it as something else (a newline would be a command, a space splits sbatch's value).
+void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
+  const auto refuse_unless = [](const std::string& value, const char* pattern, const char* option, const char* expected) {
+    if (!value.empty() && !std::regex_match(value, std::regex(pattern))) {
+      throw CliError(fmt::format("{} {}: expected {}", option, shell_command({value}), expected));
+    }
+  };
+  refuse_unless(slurm.partition, R"([A-Za-z0-9_.-]+(,[A-Za-z0-9_.-]+)*)", "--partition",
+                "a Slurm partition name (letters, digits, '_', '-', '.'; several comma-separated)");
+  refuse_unless(slurm.time, R"((\d+-)?\d+(:\d+){0,2}|UNLIMITED|unlimited|INFINITE|infinite)", "--time",
+                "a Slurm time limit: MINUTES, [DAYS-]HOURS:MINUTES:SECONDS, DAYS-HOURS or UNLIMITED");
+  refuse_unless(slurm.mem, R"(\d+[KMGTkmgt]?)", "--mem", "a Slurm memory size: a whole number with K, M, G or T, e.g. 8G");
+  for (const auto& argument : slurm.sbatch_arguments) {
+    if (argument.rfind("--", 0) != 0 || argument.find_first_of("\n\r") != std::string::npos) {
+      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, e.g. --sbatch-arg=--account=abc",
+                                 shell_command({argument})));
+    }
+  }
+  // sbatch splits an #SBATCH value at blanks and expands % in --output; a shell quote cannot help there.
+  if (logs.string().find_first_of(" \t\n\r\v\f%\"'\\") != std::string::npos) {
+    throw CliError(fmt::format("--out {}: an #SBATCH --output line cannot hold this path (blanks, quotes, '%' or "
+                               "backslashes); choose a folder without them", shell_command({logs.parent_path().string()})));
+  }
+}
 
 // The #SBATCH lines both scripts share.
 std::string common_lines(const SlurmOptions& slurm) {
@@ -76,7 +103,7 @@ std::string merge_script(const std::string& command, const std::string& check, c
 std::string submit(const std::vector<std::string>& words) {
   const std::string command = shell_command(words);
   FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) throw CliError(fmt::format("{}: cannot run", command));
+  if (pipe == nullptr) throw Error(fmt::format("{}: cannot run", command));
   std::string output;
   char buffer[256];
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
@@ -85,9 +112,9 @@ std::string submit(const std::vector<std::string>& words) {
   const std::string last_line = output.substr(output.rfind('\n') == std::string::npos ? 0 : output.rfind('\n') + 1);
   const std::string id = last_line.substr(0, last_line.find(';'));  // "id;cluster" on a federation
   if (status != 0 || id.empty() || id.find_first_not_of("0123456789") != std::string::npos) {
-    throw CliError(fmt::format("{} failed ({}){}", command,
-                               WIFEXITED(status) ? fmt::format("exit {}", WEXITSTATUS(status)) : "no exit status",
-                               last_line.empty() ? "" : ": " + last_line));
+    throw Error(fmt::format("{} failed ({}){}", command,
+                            WIFEXITED(status) ? fmt::format("exit {}", WEXITSTATUS(status)) : "no exit status",
+                            last_line.empty() ? "" : ": " + last_line));
   }
   return id;
 }
@@ -109,12 +136,8 @@ std::string array_range(const std::vector<int>& cells, int max_parallel) {
 std::string run_slurm(const RunOptions& options, const std::vector<std::string>& grid, const SlurmOptions& slurm,
                       const std::string& executable) {
   if (slurm.max_parallel < 0) throw CliError(fmt::format("--max-parallel {}: expected 0 (no limit) or more", slurm.max_parallel));
-  for (const auto& argument : slurm.sbatch_arguments) {
-    if (argument.rfind("--", 0) != 0 || argument.find_first_of("\n\r") != std::string::npos) {
-      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, e.g. --sbatch-arg=--account=abc",
-                                 shell_command({argument})));
-    }
-  }
+  const fs::path logs = fs::absolute(options.out) / "cell-logs";
+  check_slurm_values(slurm, logs);
   const auto cells = plan_cells(options, grid);
   std::vector<int> chosen;
   for (const auto& cell : cells) {
@@ -123,7 +146,6 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
   const int cpus = slurm.cpus_per_task > 0 ? slurm.cpus_per_task : options.threads > 0 ? options.threads : 1;
   const fs::path workdir = fs::current_path();
   const fs::path folder = fs::absolute(options.out) / "slurm";
-  const fs::path logs = fs::absolute(options.out) / "cell-logs";
   fs::create_directories(folder);
   fs::create_directories(logs);
 
@@ -154,8 +176,8 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
   std::string merge_job;
   try {
     merge_job = submit({"sbatch", "--parsable", "--dependency=afterany:" + array_job, merge_file.string()});
-  } catch (const CliError& error) {
-    throw CliError(fmt::format("array job {} submitted, its merge job not: {}", array_job, error.what()));
+  } catch (const Error& error) {
+    throw Error(fmt::format("array job {} submitted, its merge job not: {}", array_job, error.what()));
   }
   return text + fmt::format("Submitted array job {} and merge job {}\n", array_job, merge_job);
 }

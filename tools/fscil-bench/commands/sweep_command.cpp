@@ -8,7 +8,7 @@
 #include "core/parameter_set.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/report_writer.h"
 #include "tools/fscil-bench/options/sweep_grid.h"

@@ -7,7 +7,8 @@
 #include <cstdlib>
 
 #include "core/shown_text.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -24,9 +25,9 @@ std::int64_t parse_byte_size(const std::string& text, const std::string& option)
   const std::string number = text.substr(0, digits);
   std::string unit = text.substr(digits);
   if (number.empty() || number.front() == '.' || number.back() == '.') throw refuse();
-  char* end = nullptr;
-  const double value = std::strtod(number.c_str(), &end);
-  if (*end != '\0') throw refuse();
+  const auto parsed = parse_finite_number(number);
+  if (!parsed) throw refuse();
+  const double value = *parsed;
 
   for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   int power = 0;

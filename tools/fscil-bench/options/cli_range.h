@@ -1,10 +1,10 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
-#include <cstdlib>
 #include <string>
 
 #include "core/valid_range.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -13,9 +13,8 @@ namespace fscil {
 inline CLI::Validator within(const ValidRange& valid) {
   return CLI::Validator(
       [valid](std::string& text) -> std::string {
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (text.empty() || *end != '\0' || !valid.contains(value)) return "expected a number " + valid.describe();
+        const auto value = parse_number<double>(text);
+        if (!value || !valid.contains(*value)) return "expected a number " + valid.describe();
         return {};
       },
       valid.describe());

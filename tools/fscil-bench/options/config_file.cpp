@@ -6,7 +6,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -42,11 +43,10 @@ bool swept_on_command_line(const std::vector<std::string>& command_line, const s
 }
 
 json parse_config(const std::filesystem::path& file) {
-  std::ifstream in(file);
-  if (!in) throw CliError(fmt::format("--config {}: cannot read the file", file.string()));
+  const std::string text = read_text_file(file);
   json config;
   try {
-    config = json::parse(in);
+    config = json::parse(text);
   } catch (const json::exception& error) {
     throw CliError(fmt::format("--config {}: not JSON ({})", file.string(), error.what()));
   }

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "core/parameter_set.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 #include "tools/fscil-bench/options/config_file.h"
 #include "tools/fscil-bench/options/data_folder.h"
 
@@ -15,7 +15,7 @@ void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
   const auto folder = data_folder() / "configs";
   // A binary that lost its data folder would run LS-100 and NS-100 with other values, silently.
   if (!std::filesystem::is_directory(folder)) {
-    throw CliError(fmt::format("{}: no such folder (the released dataset configs); run fscil-bench from its build "
+    throw Error(fmt::format("{}: no such folder (the released dataset configs); run fscil-bench from its build "
                                "tree or its install prefix", folder.string()));
   }
   if (dataset.empty() || dataset.find_first_of("/.") != std::string::npos) return;

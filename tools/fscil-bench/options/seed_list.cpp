@@ -7,7 +7,8 @@
 #include <sstream>
 
 #include "core/shown_text.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
+#include "core/number_text.h"
 
 namespace fscil {
 
@@ -19,7 +20,7 @@ std::uint64_t parse_seed(const std::string& text, const std::string& whole) {
     throw CliError(fmt::format("--seeds '{}': expected comma-separated non-negative integers or ranges like 1-5",
                                whole));
   }
-  return std::stoull(text);
+  return *parse_number<std::uint64_t>(text);  // at most 18 digits: always a 64-bit number
 }
 
 }  // namespace

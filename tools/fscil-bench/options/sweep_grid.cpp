@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "reports/run_record.h"
-#include "tools/fscil-bench/options/cli_error.h"
+#include "core/error.h"
 
 namespace fscil {
 

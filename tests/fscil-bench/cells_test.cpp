@@ -1,0 +1,112 @@
+// plan, slurm and cells: one cell per base, seed and grid cell; scripts whose values are checked.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sys/wait.h>
+
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <thread>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "datasets/hdf5_file.h"
+#include "fscil_build_info.h"
+#include "tests/fixtures/dataset_fixtures.h"
+#include "tests/temporary_directory.h"
+#include "tests/fscil-bench/cli_support.h"
+
+namespace fscil {
+namespace {
+
+TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
+  const CommandResult ablation = run_cli("plan --methods ablation --dataset simtex-mini --profile smoke --seeds 1-2");
+  ASSERT_EQ(ablation.exit_code, 0) << ablation.output;
+  // pits-sc, then the two pairs of cop-fscil variants that share a base, each for two seeds.
+  EXPECT_NE(ablation.output.find("6 cells"), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("    2  cop-fscil/cpi,cop-fscil/cpi+pspc "), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("    5  cop-fscil/cpi+pcqa,cop-fscil "), std::string::npos) << ablation.output;
+  EXPECT_NE(ablation.output.find("small (4 base epochs)"), std::string::npos) << ablation.output;
+  const CommandResult sweep = run_cli("plan --grid shot=1,5 --methods pits-sc,orco --dataset simtex --seeds 3");
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
+  EXPECT_NE(sweep.output.find("4 cells"), std::string::npos) << sweep.output;
+  EXPECT_NE(sweep.output.find("    3  orco"), std::string::npos) << sweep.output;
+  EXPECT_NE(sweep.output.find("shot=5"), std::string::npos) << sweep.output;
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --seeds 1-2 --cell 2"),
+                        "--cell 2: this command has 2 cells, 0 to 1 (see: fscil-bench plan)");
+  expect_one_error_line(run_cli("plan --dataset simtex-mini"), "--methods and --dataset are required");
+}
+
+TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWithoutResults) {
+  TemporaryDirectory folder;
+  const std::string out = (folder.path() / "runs").string();
+  const std::string command =
+      "slurm --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --max-parallel 3 "
+      "--time 2:00:00 --sbatch-arg=--account=abc --out " + out;
+  const CommandResult written = run_cli(command);
+  ASSERT_EQ(written.exit_code, 0) << written.output;
+  EXPECT_NE(written.output.find("4 of 4 cells"), std::string::npos) << written.output;
+  const std::string array = read_text(folder.path() / "runs" / "slurm" / "array.sbatch");
+  for (const char* line : {"#SBATCH --array=0-3%3\n", "#SBATCH --cpus-per-task=1\n", "#SBATCH --signal=B:TERM@120\n",
+                           "#SBATCH --requeue\n", "#SBATCH --time=2:00:00\n", "#SBATCH --account=abc\n",
+                           "--methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2",
+                           "--cell \"$SLURM_ARRAY_TASK_ID\" --threads \"${SLURM_CPUS_PER_TASK:-1}\" &\n",
+                           "trap 'stop=1; [ -n \"${child:-}\" ] && kill -TERM \"$child\" 2>/dev/null' TERM\n"}) {
+    EXPECT_NE(array.find(line), std::string::npos) << line << " not in\n" << array;
+  }
+  const std::string merge = read_text(folder.path() / "runs" / "slurm" / "merge.sbatch");
+  EXPECT_NE(merge.find("report --results " + out + " --methods prototype,cop-fscil\n"), std::string::npos) << merge;
+  EXPECT_NE(merge.find(" plan --methods prototype,cop-fscil "), std::string::npos) << merge;
+  EXPECT_NE(merge.find(" --missing-only\n"), std::string::npos) << merge;
+  EXPECT_EQ(std::system(("bash -n " + (folder.path() / "runs" / "slurm" / "array.sbatch").string()).c_str()), 0);
+
+  // Cells 0 (prototype, seed 1) and 3 (cop-fscil, seed 2) have their result files.
+  std::filesystem::create_directories(folder.path() / "runs" / "results");
+  std::ofstream(folder.path() / "runs" / "results" / "prototype__simtex-mini__seed1.json") << "{}";
+  std::ofstream(folder.path() / "runs" / "results" / "cop-fscil__simtex-mini__seed2.json") << "{}";
+  const CommandResult missing = run_cli(command + " --missing-only");
+  ASSERT_EQ(missing.exit_code, 0) << missing.output;
+  EXPECT_NE(missing.output.find("2 of 4 cells"), std::string::npos) << missing.output;
+  EXPECT_NE(read_text(folder.path() / "runs" / "slurm" / "array.sbatch").find("#SBATCH --array=1-2%3\n"), std::string::npos);
+
+  // plan --missing-only, the merge job's check: the same two cells, and a failure while there are any.
+  const std::string plan = "plan --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --out " + out;
+  const CommandResult still_missing = run_cli(plan + " --missing-only");
+  EXPECT_EQ(still_missing.exit_code, 1) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("2 cells"), std::string::npos) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("    1  prototype"), std::string::npos) << still_missing.output;
+  EXPECT_NE(still_missing.output.find("    2  cop-fscil"), std::string::npos) << still_missing.output;
+
+  expect_one_error_line(run_cli(command + " --submit", "PATH=/nonexistent"), "sbatch --parsable");
+  expect_one_error_line(run_cli(command + " --sbatch-arg=account=abc"), "expected one sbatch option on one line");
+  // Values that reach #SBATCH lines are checked as what they are, before anything is written.
+  TemporaryDirectory refused;
+  const std::string elsewhere = "slurm --methods prototype --dataset simtex-mini --profile smoke --out " +
+                                (refused.path() / "runs").string();
+  for (const char* bad : {"'x; rm -rf /'", "'cpu\ntouch PWNED'", "'$(touch PWNED)'", "'`touch PWNED`'", "'a b'"}) {
+    const CommandResult partition = run_cli(elsewhere + " --partition " + bad);
+    expect_one_error_line(partition, "--partition");
+    EXPECT_NE(partition.output.find("expected a Slurm partition name"), std::string::npos) << partition.output;
+    EXPECT_EQ(partition.exit_code, 2);
+    expect_one_error_line(run_cli(elsewhere + " --time " + bad), "expected a Slurm time limit");
+    expect_one_error_line(run_cli(elsewhere + " --mem " + bad), "expected a Slurm memory size");
+  }
+  EXPECT_FALSE(std::filesystem::exists(refused.path() / "runs" / "slurm")) << "nothing written for a refused value";
+  const CommandResult spaced = run_cli("slurm --methods prototype --dataset simtex-mini --profile smoke --out '" +
+                                       (refused.path() / "o 3").string() + "'");
+  expect_one_error_line(spaced, "an #SBATCH --output line cannot hold this path");
+  for (const char* good : {"--partition gpu,cpu_long", "--time 1-12:00:00", "--time 90", "--mem 512M"}) {
+    EXPECT_EQ(run_cli(elsewhere + " " + good).exit_code, 0) << good;
+  }
+  expect_one_error_line(run_cli(plan + " --cell 1"), "--cell: expected a run or sweep command");
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,75 @@
+// --config files and rerun.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sys/wait.h>
+
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <thread>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "datasets/hdf5_file.h"
+#include "fscil_build_info.h"
+#include "tests/fixtures/dataset_fixtures.h"
+#include "tests/temporary_directory.h"
+#include "tests/fscil-bench/cli_support.h"
+
+namespace fscil {
+namespace {
+
+TEST(Cli, ConfigFileSetsRunOptionsAndTheCommandLineOverridesIt) {
+  TemporaryDirectory folder;
+  const auto config = folder.path() / "ablation.json";
+  std::ofstream(config) << R"({"methods": "ablation", "dataset": "simtex-mini", "profile": "smoke", "seeds": "1-2",
+                             "grid": {"shot": [1, 5]}})";
+  const CommandResult planned = run_cli("plan --config " + config.string());
+  ASSERT_EQ(planned.exit_code, 0) << planned.output;
+  EXPECT_NE(planned.output.find("12 cells"), std::string::npos) << planned.output;  // 3 groups x 2 seeds x 2 shots
+  const CommandResult overridden = run_cli("plan --config " + config.string() + " --seeds 7");
+  ASSERT_EQ(overridden.exit_code, 0) << overridden.output;
+  EXPECT_NE(overridden.output.find("6 cells"), std::string::npos) << overridden.output;
+  EXPECT_NE(overridden.output.find("shot=5                        7"), std::string::npos) << overridden.output;
+  expect_one_error_line(run_cli("--config " + config.string()), "\"grid\" needs the sweep, plan, run-cells or slurm subcommand");
+  expect_one_error_line(run_cli("plan --config " + (folder.path() / "none.json").string()),
+                        "none.json: cannot open (No such file or directory)");
+  // A folder is not a file: one line from the one file reader, a bad input (exit 1), not an abort.
+  const CommandResult folder_given = run_cli("--config " + folder.path().string());
+  EXPECT_EQ(folder_given.exit_code, 1) << folder_given.output;
+  expect_one_error_line(folder_given, folder.path().string() + ": expected a file, found a folder");
+}
+
+TEST(Cli, RerunRepeatsARunFromItsResultFileExactly) {
+  TemporaryDirectory folder;
+  const auto first = folder.path() / "first";
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 2 --threads 1 --quiet --no-cache "
+                    "--set shot=3 --class-order shuffled --out " + first.string()).exit_code, 0);
+  const auto result = first / "results" / "prototype__simtex-mini__seed2.json";
+  const auto again = folder.path() / "again";
+  const CommandResult rerun = run_cli("rerun " + result.string() + " --quiet --no-cache --out " + again.string());
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  const auto repeated = again / "results" / "prototype__simtex-mini__seed2.json";
+  EXPECT_EQ(accuracies_in(repeated), accuracies_in(result));
+  // The same parameters, the shot and the class order included.
+  const auto parameters = [](const std::filesystem::path& file) {
+    const std::string text = read_text(file);
+    const auto start = text.find("\"parameters\": {");
+    return text.substr(start, text.find('}', start) - start);
+  };
+  EXPECT_EQ(parameters(repeated), parameters(result));
+  EXPECT_NE(parameters(result).find("\"shot\": \"3\""), std::string::npos) << parameters(result);
+  EXPECT_NE(read_text(repeated).find("\"threads\": 1,"), std::string::npos);  // not this machine's 2 cores
+  expect_one_error_line(run_cli("rerun " + (folder.path() / "none.json").string()), "none.json");
+  expect_one_error_line(run_cli("rerun " + result.string() + " --seeds 3"), "--seeds comes from the result file");
+}
+
+}  // namespace
+}  // namespace fscil

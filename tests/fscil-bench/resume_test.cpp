@@ -1,0 +1,132 @@
+// --resume after SIGKILL and SIGTERM: the numbers of an uninterrupted run.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <sys/wait.h>
+
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <thread>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "datasets/hdf5_file.h"
+#include "fscil_build_info.h"
+#include "tests/fixtures/dataset_fixtures.h"
+#include "tests/temporary_directory.h"
+#include "tests/fscil-bench/cli_support.h"
+
+namespace fscil {
+namespace {
+
+// A run killed with SIGKILL once its first cop-fscil checkpoint exists, i.e. during an
+// incremental session of cop-fscil, after prototype had finished.
+class KilledRun : public ::testing::Test {
+ protected:
+  static constexpr const char* kOptions =
+      " --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+
+  void SetUp() override {
+    const std::string pid_file = (out.path() / "pid").string();
+    ASSERT_EQ(std::system((std::string(FSCIL_BENCH_EXECUTABLE) + kOptions + " --out " + out.path().string() +
+                           " > /dev/null 2>&1 & echo $! > " + pid_file).c_str()), 0);
+    const auto started = std::chrono::steady_clock::now();
+    while (!std::filesystem::exists(checkpoint()) && std::chrono::steady_clock::now() - started < std::chrono::minutes(5)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    int pid = 0;
+    std::ifstream(pid_file) >> pid;
+    ASSERT_GT(pid, 0);
+    ::kill(pid, SIGKILL);
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // not our child: no waitpid, let it die
+  }
+  std::filesystem::path checkpoint() const {
+    return out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
+  }
+  std::filesystem::path result(const std::string& method) const {
+    return out.path() / "results" / (method + "__simtex-mini__seed1.json");
+  }
+  TemporaryDirectory out;
+};
+
+TEST_F(KilledRun, ResumeEndsWithExactlyTheResultsOfAnUninterruptedRun) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  ASSERT_TRUE(std::filesystem::exists(result("prototype")));
+  ASSERT_FALSE(std::filesystem::exists(result("cop-fscil"))) << "the run finished before it was killed";
+  const CommandResult resumed = run_cli(std::string(kOptions) + " --resume " + out.path().string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_FALSE(std::filesystem::exists(checkpoint())) << "a finished run leaves no checkpoint";
+
+  TemporaryDirectory uninterrupted;
+  ASSERT_EQ(run_cli(std::string(kOptions) + " --out " + uninterrupted.path().string()).exit_code, 0);
+  for (const std::string method : {"prototype", "cop-fscil"}) {
+    const std::string expected = accuracies_in(uninterrupted.path() / "results" / (method + "__simtex-mini__seed1.json"));
+    EXPECT_EQ(std::count(expected.begin(), expected.end(), ':'), 3);
+    EXPECT_EQ(accuracies_in(result(method)), expected) << method;
+  }
+}
+
+TEST_F(KilledRun, AnEmptyResultsFolderStillResumesAndAMistypedResumePathIsRefused) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + (out.path() / "typo").string()),
+                        "typo: no such folder, nothing to resume");
+  std::filesystem::remove(result("prototype"));  // results/ is now empty, the checkpoint still there
+  std::string loud = kOptions;
+  loud.erase(loud.find(" --quiet"), 8);
+  const CommandResult resumed = run_cli(loud + " --resume " + out.path().string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("continuing after session"), std::string::npos) << resumed.output;
+  EXPECT_TRUE(std::filesystem::exists(result("prototype")));
+  EXPECT_TRUE(std::filesystem::exists(result("cop-fscil")));
+}
+
+TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  const auto size = std::filesystem::file_size(checkpoint());
+  const auto saved = out.path() / "saved.ckpt";
+  std::filesystem::copy_file(checkpoint(), saved);
+  std::filesystem::resize_file(checkpoint(), size - 100);
+  expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + out.path().string()), "corrupt checkpoint");
+  EXPECT_FALSE(std::filesystem::exists(result("cop-fscil")));
+
+  // The same file under another seed's name: a checkpoint of another run.
+  std::filesystem::rename(saved, out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed2.ckpt");
+  expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet "
+                                "--no-cache --seeds 2 --resume " + out.path().string()),
+                        "checkpoint of another run");
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "cop-fscil__simtex-mini__seed2.json"));
+}
+
+TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
+  TemporaryDirectory folder;
+  const std::string options = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --no-cache --quiet";
+  const auto stopped = folder.path() / "stopped";
+  const auto checkpoint = stopped / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
+  const std::string script = fmt::format(
+      "{} {} --out {} 2> {}/stderr & pid=$!; for i in $(seq 6000); do [ -f {} ] && break; kill -0 $pid || break; "
+      "sleep 0.02; done; kill -TERM $pid; wait $pid",
+      FSCIL_BENCH_EXECUTABLE, options, stopped.string(), folder.path().string(), checkpoint.string());
+  const int status = std::system(("bash -c '" + script + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 143) << read_text(folder.path() / "stderr");
+  EXPECT_NE(read_text(folder.path() / "stderr").find("fscil-bench: stopped by SIGTERM: finished sessions are kept"),
+            std::string::npos);
+  ASSERT_TRUE(std::filesystem::exists(checkpoint));
+  EXPECT_FALSE(std::filesystem::exists(stopped / "results" / "cop-fscil__simtex-mini__seed1.json"));
+  const CommandResult resumed = run_cli(options + " --resume " + stopped.string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  const CommandResult whole = run_cli(options + " --out " + (folder.path() / "whole").string());
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_EQ(accuracies_in(stopped / "results" / "cop-fscil__simtex-mini__seed1.json"),
+            accuracies_in(folder.path() / "whole" / "results" / "cop-fscil__simtex-mini__seed1.json"));
+}
+
+}  // namespace
+}  // namespace fscil

@@ -1,0 +1,114 @@
+#include "tools/fscil-bench/options/run_option_table.h"
+
+#include <CLI/CLI.hpp>
+
+#include <type_traits>
+
+#include "core/parallel_for.h"
+#include "tools/fscil-bench/options/cli_range.h"
+
+namespace fscil {
+
+const std::vector<RunOption>& run_option_table() {
+  using R = RunOptions;
+  static const std::vector<RunOption> table = {
+      {"--methods",
+       "'all', 'ablation' (pits-sc and the four cop-fscil variants) or a comma-separated list of methods (see: "
+       "fscil-bench list)",
+       &R::methods, true, true},
+      {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, true, true},
+      {"--profile", "smoke | fast | paper", &R::profile, true, true, {}, true},
+      {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, true, true, {}, true},
+      {"--threads", "compute threads (0 = all cores)", &R::threads, false, true, ValidRange::between(0, kMaxThreads),
+       true},
+      {"--out", "output directory for result files and tables", &R::out, true, false, {}, true},
+      {"--features",
+       "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the signals (auto: in "
+       "memory up to 1 GiB)",
+       &R::features, true, false, {}, true},
+      {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, true, true, {}, true},
+      {"--class-order", "natural | shuffled (from the seed)", &R::class_order, true, true, {}, true},
+      {"--evaluate-on",
+       "test | validation: score every session on the test split, or on the validation split of every class (choose "
+       "defaults there, never on test)",
+       &R::evaluate_on, true, true, {}, true},
+      {"--selection",
+       "last | validation | test-oracle: which epoch a method keeps where the reference codes choose one (last: the "
+       "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
+       "reference codes do: inflated, labelled so in every table)",
+       &R::selection, true, true, {}, true},
+      {"--data-root", "root folder of a real dataset download", &R::data_root},
+      {"--cache-dir", "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)",
+       &R::cache_dir},
+      {"--no-cache", "neither read nor write either cache", &R::no_cache},
+      {"--no-stage-cache", "train every base session, even one the cache holds for exactly these inputs",
+       &R::no_stage_cache},
+      {"--save-embeddings",
+       "last | all | session numbers (0,9): keep the scored test embeddings of those sessions in OUT/embeddings/RUN.h5 "
+       "(for the embedding figure of fscil-bench reproduce embedding)",
+       &R::save_embeddings},
+      {"--save-model",
+       "keep each run's final method state in OUT/models/RUN.pt: a dict of named tensors that Python's torch.load "
+       "reads",
+       &R::save_model},
+      {"--max-memory",
+       "SIZE (4G, 512M, bytes): a training pass that would take the run past it recomputes its ResNet stem and stages "
+       "in backward (as --set recompute=stages, the same numbers), and freed large blocks go back to the kernel; an "
+       "estimate, not a cap",
+       &R::max_memory, true, true, {}, false, "expected a size such as 4G"},
+      {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, true, true},
+      {"--quiet", "no progress on stderr", &R::quiet},
+      {"--cell",
+       "run only cell K of this command (see: fscil-bench plan): its result files, no tables; continues what --out "
+       "holds of it",
+       &R::cell, false, true, ValidRange::at_least(0)},
+  };
+  return table;
+}
+
+void declare_run_options(CLI::App& app, RunOptions& options) {
+  for (const RunOption& row : run_option_table()) {
+    std::visit(
+        [&](auto member) {
+          using Value = std::remove_reference_t<decltype(options.*member)>;
+          if constexpr (std::is_same_v<Value, bool>) {
+            app.add_flag(row.name, options.*member, row.help);
+          } else {
+            CLI::Option* option = app.add_option(row.name, options.*member, row.help);
+            if (row.range) option->check(within(*row.range));
+            if (row.shows_default) option->capture_default_str();
+            if (row.if_empty != nullptr) {
+              const std::string refusal = row.if_empty;
+              option->check(CLI::Validator(
+                  [refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, "SIZE"));
+            }
+          }
+        },
+        row.member);
+  }
+}
+
+std::vector<std::string> run_option_words(const RunOptions& options) {
+  std::vector<std::string> words;
+  for (const RunOption& row : run_option_table()) {
+    if (!row.written_for_cells) continue;
+    std::visit(
+        [&](auto member) {
+          const auto& value = options.*member;
+          using Value = std::decay_t<decltype(value)>;
+          if constexpr (std::is_same_v<Value, bool>) {
+            if (value) words.emplace_back(row.name);
+          } else if constexpr (std::is_same_v<Value, std::string>) {
+            if (!value.empty()) words.insert(words.end(), {row.name, value});
+          } else if constexpr (std::is_same_v<Value, std::vector<std::string>>) {
+            for (const auto& item : value) words.insert(words.end(), {row.name, item});
+          } else {
+            words.insert(words.end(), {row.name, std::to_string(value)});
+          }
+        },
+        row.member);
+  }
+  return words;
+}
+
+}  // namespace fscil

@@ -1,0 +1,46 @@
+#pragma once
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "core/valid_range.h"
+#include "tools/fscil-bench/commands/run_command.h"
+
+namespace CLI {
+class App;
+}
+
+namespace fscil {
+
+// A run option, declared once: this row gives it to CLI11 (and so to --config files, whose keys
+// are checked against CLI11), writes it back out for cells and Slurm tasks, and tells rerun
+// whether a result file fixes it.
+struct RunOption {
+  using Member = std::variant<std::string RunOptions::*, int RunOptions::*, bool RunOptions::*,
+                              std::vector<std::string> RunOptions::*>;
+  const char* name;  // "--methods"
+  const char* help;
+  Member member;
+  // Written into a cell's or Slurm task's command line (not --threads, which a cell sets itself,
+  // nor --cell).
+  bool written_for_cells = true;
+  // Part of what a result file records: rerun takes it from there and refuses it on its own
+  // command line.
+  bool from_result_file = false;
+  std::optional<ValidRange> range = std::nullopt;  // a number's accepted values
+  bool shows_default = false;       // --help shows the default
+  const char* if_empty = nullptr;   // the refusal of an empty value, where one means nothing
+};
+
+// Every run option, in --help order (also the order a cell's command line is written in).
+const std::vector<RunOption>& run_option_table();
+
+// Declares every run option on `app`, bound to `options`.
+void declare_run_options(CLI::App& app, RunOptions& options);
+
+// `options` as the words of a command line (fscil-bench ...), every written option explicit:
+// text options when not empty, flags when set, lists once per value.
+std::vector<std::string> run_option_words(const RunOptions& options);
+
+}  // namespace fscil
