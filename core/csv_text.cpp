@@ -4,16 +4,12 @@
 
 namespace fscil {
 
-namespace {
-
 std::string trimmed(const std::string& text) {
   const auto first = text.find_first_not_of(" \t\r\n");
   if (first == std::string::npos) return {};
   const auto last = text.find_last_not_of(" \t\r\n");
   return text.substr(first, last - first + 1);
 }
-
-}  // namespace
 
 std::vector<std::string> csv_lines(const std::string& text) {
   std::stringstream stream(text.rfind("\xEF\xBB\xBF", 0) == 0 ? text.substr(3) : text);

@@ -13,5 +13,7 @@ std::vector<std::string> csv_lines(const std::string& text);
 // with a quote runs to its closing quote, "" inside is one quote; a quote elsewhere is a
 // character); blanks around each field are dropped. A trailing comma gives an empty last field.
 std::vector<std::string> csv_fields(const std::string& line);
+// `text` without the blanks (spaces, tabs, line ends) around it.
+std::string trimmed(const std::string& text);
 
 }  // namespace fscil

@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 
@@ -15,13 +14,6 @@
 namespace fscil {
 
 namespace {
-
-std::string trimmed(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r\n");
-  if (first == std::string::npos) return {};
-  const auto last = text.find_last_not_of(" \t\r\n");
-  return text.substr(first, last - first + 1);
-}
 
 std::ifstream open_or_throw(const std::filesystem::path& path) {
   if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));

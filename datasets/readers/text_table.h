@@ -7,8 +7,9 @@
 
 namespace fscil {
 
-// A comma-separated file with a header row, as text. Every field is trimmed; double quotes
-// around a field are removed. Rows keep their 1-based line numbers for error messages.
+// A comma-separated file with a header row, as text, read by the one CSV reader (core/csv_text.h):
+// every field trimmed, quotes around a field removed. Rows keep their 1-based line numbers for
+// error messages.
 struct TextTable {
   std::filesystem::path path;
   std::vector<std::string> header;
