@@ -10,6 +10,7 @@
 #include "core/atomic_file.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "core/error.h"
+#include "core/shown_text.h"
 #include "tools/fscil-bench/cells/command_arguments.h"
 
 namespace fscil {
@@ -23,7 +24,7 @@ namespace {
 void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
   const auto refuse_unless = [](const std::string& value, const char* pattern, const char* option, const char* expected) {
     if (!value.empty() && !std::regex_match(value, std::regex(pattern))) {
-      throw CliError(fmt::format("{} {}: expected {}", option, shell_command({value}), expected));
+      throw CliError(fmt::format("{} '{}': expected {}", option, shown_text(value), expected));
     }
   };
   refuse_unless(slurm.partition, R"([A-Za-z0-9_.-]+(,[A-Za-z0-9_.-]+)*)", "--partition",
@@ -39,8 +40,8 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
   }
   // sbatch splits an #SBATCH value at blanks and expands % in --output; a shell quote cannot help there.
   if (logs.string().find_first_of(" \t\n\r\v\f%\"'\\") != std::string::npos) {
-    throw CliError(fmt::format("--out {}: an #SBATCH --output line cannot hold this path (blanks, quotes, '%' or "
-                               "backslashes); choose a folder without them", shell_command({logs.parent_path().string()})));
+    throw CliError(fmt::format("--out '{}': an #SBATCH --output line cannot hold this path (blanks, quotes, '%' or "
+                               "backslashes); choose a folder without them", shown_text(logs.parent_path().string(), 1000)));
   }
 }
 
