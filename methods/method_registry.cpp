@@ -31,6 +31,16 @@ std::map<std::string, ParameterDefaults> pits_sc_profiles() {
   return profiles;
 }
 
+// Pretraining, then OrCo's projector stage as PITS-SC's second stage is shortened (10 epochs: 2 in
+// fast, 1 in smoke), and in smoke its sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up).
+std::map<std::string, ParameterDefaults> orco_profiles() {
+  auto profiles = pretraining_profiles();
+  profiles["smoke"].insert(profiles["smoke"].end(),
+                           {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}});
+  profiles["fast"].insert(profiles["fast"].end(), {{"orco_base_epochs", "2"}});
+  return profiles;
+}
+
 std::vector<MethodEntry>& registry() {
   const std::vector<std::string> ablation = {"ablation"};
   const std::vector<std::string> pretraining = {"pretrain_epochs"};
@@ -50,7 +60,7 @@ std::vector<MethodEntry>& registry() {
        pits_sc_stages, pits_sc_profiles()},
       {"orco", "OrCo-style: pseudo-targets, Hungarian assignment, projector trained with SupCon, orthogonality and "
        "CE; replays 5 exemplars per base class and every earlier shot", &make_orco_method, {},
-       {"pretrain_epochs", "orco_base_epochs"}, pretraining_profiles()},
+       {"pretrain_epochs", "orco_base_epochs"}, orco_profiles()},
   };
   return table;
 }
