@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <set>
 
@@ -75,6 +76,14 @@ TEST(RunOptionTable, WrittenOptionsParseBackToTheSameOptions) {
   EXPECT_EQ(parsed.max_memory, "4G");
   EXPECT_EQ(parsed.assignments, options.assignments);
   EXPECT_TRUE(parsed.no_cache && parsed.no_stage_cache && parsed.save_model && parsed.quiet);
+  // An option a command always passes on is written even empty, so a cell refuses it as the command
+  // would, rather than run with a default.
+  RunOptions empty_selection = options;
+  empty_selection.selection = "";
+  const auto empty_words = run_option_words(empty_selection);
+  const auto selection = std::find(empty_words.begin(), empty_words.end(), "--selection");
+  ASSERT_NE(selection, empty_words.end());
+  EXPECT_EQ(*(selection + 1), "");
   // Every row is a distinct option.
   std::set<std::string> names;
   for (const auto& row : run_option_table()) EXPECT_TRUE(names.insert(row.name).second) << row.name;

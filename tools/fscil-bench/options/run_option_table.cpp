@@ -11,32 +11,33 @@ namespace fscil {
 
 const std::vector<RunOption>& run_option_table() {
   using R = RunOptions;
+  using W = RunOption::Written;
   static const std::vector<RunOption> table = {
       {"--methods",
        "'all', 'ablation' (pits-sc and the four cop-fscil variants) or a comma-separated list of methods (see: "
        "fscil-bench list)",
-       &R::methods, true, true},
-      {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, true, true},
-      {"--profile", "smoke | fast | paper", &R::profile, true, true, {}, true},
-      {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, true, true, {}, true},
-      {"--threads", "compute threads (0 = all cores)", &R::threads, false, true, ValidRange::between(0, kMaxThreads),
+       &R::methods, W::always, true},
+      {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, W::always, true},
+      {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true},
+      {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, W::always, true, {}, true},
+      {"--threads", "compute threads (0 = all cores)", &R::threads, W::never, true, ValidRange::between(0, kMaxThreads),
        true},
-      {"--out", "output directory for result files and tables", &R::out, true, false, {}, true},
+      {"--out", "output directory for result files and tables", &R::out, W::always, false, {}, true},
       {"--features",
        "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the signals (auto: in "
        "memory up to 1 GiB)",
-       &R::features, true, false, {}, true},
-      {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, true, true, {}, true},
-      {"--class-order", "natural | shuffled (from the seed)", &R::class_order, true, true, {}, true},
+       &R::features, W::always, false, {}, true},
+      {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, W::always, true, {}, true},
+      {"--class-order", "natural | shuffled (from the seed)", &R::class_order, W::always, true, {}, true},
       {"--evaluate-on",
        "test | validation: score every session on the test split, or on the validation split of every class (choose "
        "defaults there, never on test)",
-       &R::evaluate_on, true, true, {}, true},
+       &R::evaluate_on, W::always, true, {}, true},
       {"--selection",
        "last | validation | test-oracle: which epoch a method keeps where the reference codes choose one (last: the "
        "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
        "reference codes do: inflated, labelled so in every table)",
-       &R::selection, true, true, {}, true},
+       &R::selection, W::always, true, {}, true},
       {"--data-root", "root folder of a real dataset download", &R::data_root},
       {"--cache-dir", "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)",
        &R::cache_dir},
@@ -55,13 +56,13 @@ const std::vector<RunOption>& run_option_table() {
        "SIZE (4G, 512M, bytes): a training pass that would take the run past it recomputes its ResNet stem and stages "
        "in backward (as --set recompute=stages, the same numbers), and freed large blocks go back to the kernel; an "
        "estimate, not a cap",
-       &R::max_memory, true, true, {}, false, "expected a size such as 4G"},
-      {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, true, true},
+       &R::max_memory, W::when_given, true, {}, false, "expected a size such as 4G"},
+      {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, W::when_given, true},
       {"--quiet", "no progress on stderr", &R::quiet},
       {"--cell",
        "run only cell K of this command (see: fscil-bench plan): its result files, no tables; continues what --out "
        "holds of it",
-       &R::cell, false, true, ValidRange::at_least(0)},
+       &R::cell, W::never, true, ValidRange::at_least(0)},
   };
   return table;
 }
@@ -91,7 +92,8 @@ void declare_run_options(CLI::App& app, RunOptions& options) {
 std::vector<std::string> run_option_words(const RunOptions& options) {
   std::vector<std::string> words;
   for (const RunOption& row : run_option_table()) {
-    if (!row.written_for_cells) continue;
+    if (row.written == RunOption::Written::never) continue;
+    const bool always = row.written == RunOption::Written::always;
     std::visit(
         [&](auto member) {
           const auto& value = options.*member;
@@ -99,7 +101,7 @@ std::vector<std::string> run_option_words(const RunOptions& options) {
           if constexpr (std::is_same_v<Value, bool>) {
             if (value) words.emplace_back(row.name);
           } else if constexpr (std::is_same_v<Value, std::string>) {
-            if (!value.empty()) words.insert(words.end(), {row.name, value});
+            if (always || !value.empty()) words.insert(words.end(), {row.name, value});
           } else if constexpr (std::is_same_v<Value, std::vector<std::string>>) {
             for (const auto& item : value) words.insert(words.end(), {row.name, item});
           } else {

@@ -22,9 +22,11 @@ struct RunOption {
   const char* name;  // "--methods"
   const char* help;
   Member member;
-  // Written into a cell's or Slurm task's command line (not --threads, which a cell sets itself,
-  // nor --cell).
-  bool written_for_cells = true;
+  // How a cell's or Slurm task's command line carries it: always (even empty, so a cell refuses
+  // what the command would), when given (a flag set, a text not empty, each list value), or never
+  // (--threads, which a cell sets itself, and --cell).
+  enum class Written { always, when_given, never };
+  Written written = Written::when_given;
   // Part of what a result file records: rerun takes it from there and refuses it on its own
   // command line.
   bool from_result_file = false;
@@ -39,8 +41,7 @@ const std::vector<RunOption>& run_option_table();
 // Declares every run option on `app`, bound to `options`.
 void declare_run_options(CLI::App& app, RunOptions& options);
 
-// `options` as the words of a command line (fscil-bench ...), every written option explicit:
-// text options when not empty, flags when set, lists once per value.
+// `options` as the words of a command line (fscil-bench ...), every written option explicit.
 std::vector<std::string> run_option_words(const RunOptions& options);
 
 }  // namespace fscil
