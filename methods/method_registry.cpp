@@ -42,9 +42,9 @@ std::map<std::string, ParameterDefaults> orco_profiles() {
 }
 
 std::vector<MethodEntry>& registry() {
-  const std::vector<std::string> ablation = {"ablation"};
-  const std::vector<std::string> pretraining = {"pretrain_epochs"};
-  const std::vector<std::string> pits_sc_stages = {"pretrain_epochs", "pit_epochs"};
+  static const std::vector<std::string> ablation = {"ablation"};
+  static const std::vector<std::string> pretraining = {"pretrain_epochs"};
+  static const std::vector<std::string> pits_sc_stages = {"pretrain_epochs", "pit_epochs"};
   static std::vector<MethodEntry> table = {
       {"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
        &make_prototype_method, {}, pretraining, pretraining_profiles()},

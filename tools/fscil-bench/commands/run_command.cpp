@@ -238,8 +238,10 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
                    : options.selection == "test-oracle" ? EpochSelection::test_oracle
                                                         : EpochSelection::last;
   plan.memory_limit = options.max_memory.empty() ? 0 : parse_byte_size(options.max_memory, "--max-memory");
-  if (plan.memory_limit > 0) plan.memory_budget = std::make_shared<MemoryBudget>(plan.memory_limit);
-  if (plan.memory_limit > 0) return_large_blocks_to_the_kernel();
+  if (plan.memory_limit > 0) {
+    plan.memory_budget = std::make_shared<MemoryBudget>(plan.memory_limit);
+    return_large_blocks_to_the_kernel();
+  }
 
   DatasetRequest request;
   request.data_root = options.data_root;
@@ -380,12 +382,13 @@ std::string base_identity_of(const RunOptions& options, const CommandPlan& plan,
                               &plan.schedules[run.schedule]});
 }
 
-// A fresh method and the seed's random states, as every run starts.
+// A fresh method, as every run starts.
 void start_fresh(const CommandPlan& plan, RunInProgress& run) {
   run.params = plan.params;
   run.method = create_method(run.method_name, run.params);
 }
 
+// The seed's random states (torch's and the context's), as every run starts.
 void seed_run(RunInProgress& run) {
   torch::manual_seed(run.seed);
   run.context.generator = std::mt19937_64(run.seed);
@@ -557,12 +560,11 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
     fs::remove(run.checkpoint_file, ignored);
     return;
   }
-  torch::manual_seed(run.seed);
+  seed_run(run);
   run.context.recompute_activations = plan.recompute_activations;
   run.context.selection = plan.selection;
   run.context.memory_budget = plan.memory_budget;
   run.context.seed = run.seed;
-  run.context.generator = std::mt19937_64(run.seed);
   run.context.progress = &progress;
   reset_peak_resident();
   run.clock = Stopwatch();
