@@ -13,6 +13,8 @@
 #include "reports/comparable_runs.h"
 #include "core/text_file.h"
 #include "core/error.h"
+#include "metrics/json_numbers.h"
+#include "metrics/session_json.h"
 
 namespace fscil {
 
@@ -22,41 +24,6 @@ using nlohmann::json;
 namespace {
 constexpr int kSchemaVersion = 1;
 constexpr const char* kGridCharacters = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-";
-
-// JSON has no NaN: unknown values are null.
-json number_or_null(double value) { return std::isnan(value) ? json(nullptr) : json(value); }
-double number_from(const json& value) {
-  return value.is_null() ? std::numeric_limits<double>::quiet_NaN() : value.get<double>();
-}
-
-// A whole number that fits T: get<T>() would convert 1e300 or -1.5 with undefined behaviour.
-template <typename T>
-T whole_number(const json& value, const std::string& field, const std::string& origin) {
-  constexpr auto most = static_cast<std::uint64_t>(std::numeric_limits<T>::max());
-  bool fits = false;
-  if (value.is_number_unsigned()) {
-    fits = value.get<std::uint64_t>() <= most;
-  } else if (value.is_number_integer()) {
-    const auto number = value.get<std::int64_t>();
-    fits = number < 0 ? number >= static_cast<std::int64_t>(std::numeric_limits<T>::min())
-                      : static_cast<std::uint64_t>(number) <= most;
-  }
-  if (!fits) {
-    throw ReportError(fmt::format("{}: {} {}, expected a whole number from {} to {}", origin, field,
-                                  shown_text(value.dump()), std::numeric_limits<T>::min(), most));
-  }
-  return value.get<T>();
-}
-
-json training_log_json(const std::vector<EpochLog>& log) {
-  json rows = json::array();
-  for (const auto& row : log) {
-    json values = json::object();
-    for (const auto& [name, value] : row.values) values[name] = number_or_null(value);
-    rows.push_back({{"stage", row.stage}, {"epoch", row.epoch}, {"values", values}});
-  }
-  return rows;
-}
 
 std::string safe_name(std::string text) {
   for (char& c : text) {
@@ -93,23 +60,6 @@ std::string grid_cell_name(const std::map<std::string, std::string>& grid) {
 }
 
 std::string to_json_text(const RunRecord& record) {
-  json sessions = json::array();
-  for (const auto& s : record.sessions) {
-    sessions.push_back({{"session", s.session},
-                        {"seen_classes", s.seen_classes},
-                        {"accuracy", s.accuracy.all},
-                        {"base_accuracy", s.accuracy.base},
-                        {"novel_accuracy", s.accuracy.novel},
-                        {"current_accuracy", s.accuracy.current},
-                        {"harmonic_mean", s.accuracy.harmonic},
-                        {"test_samples", s.accuracy.samples},
-                        {"train_seconds", s.train_seconds},
-                        {"test_seconds", s.test_seconds},
-                        {"context_ratio_mean", number_or_null(s.context_ratio_mean)},
-                        {"context_ratio_max", number_or_null(s.context_ratio_max)},
-                        {"diagnostics", s.diagnostics},
-                        {"training_log", training_log_json(s.training_log)}});
-  }
   const json document = {{"schema", kSchemaVersion},
                          {"method", record.method},
                          {"dataset", record.dataset},
@@ -125,7 +75,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"version", record.version},
                          {"git_commit", record.git_commit},
                          {"dataset_key", record.dataset_key},
-                         {"sessions", sessions},
+                         {"sessions", sessions_json(record.sessions, NonFinite::null)},
                          {"total_seconds", record.total_seconds},
                          {"peak_resident_bytes", record.peak_resident_bytes},
                          {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}},
@@ -206,57 +156,15 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       record.inference.seconds_per_sample = inference.at("seconds_per_sample").get<double>();
       record.inference.batch = whole_number<std::int64_t>(inference.at("batch"), "inference batch", origin);
     }
-    for (const auto& s : document.at("sessions")) {
-      SessionRecord session;
-      session.session = whole_number<int>(s.at("session"), "session", origin);
-      session.seen_classes = whole_number<int>(s.at("seen_classes"), "seen_classes", origin);
-      session.accuracy.all = s.at("accuracy").get<double>();
-      session.accuracy.base = s.at("base_accuracy").get<double>();
-      session.accuracy.novel = s.at("novel_accuracy").get<double>();
-      session.accuracy.current = s.at("current_accuracy").get<double>();
-      session.accuracy.harmonic = s.at("harmonic_mean").get<double>();
-      session.accuracy.samples = whole_number<std::int64_t>(s.at("test_samples"), "test_samples", origin);
-      session.train_seconds = s.at("train_seconds").get<double>();
-      session.test_seconds = s.at("test_seconds").get<double>();
-      session.context_ratio_mean = number_from(s.at("context_ratio_mean"));
-      session.context_ratio_max = number_from(s.at("context_ratio_max"));
-      if (s.contains("diagnostics")) {
-        // NaN (a diverged loss) and infinities were written as null.
-        for (const auto& [name, value] : s.at("diagnostics").get<std::map<std::string, json>>()) {
-          session.diagnostics[name] = number_from(value);
-        }
-      }
-      if (s.contains("training_log")) {  // files written before the log was kept have none
-        for (const auto& row : s.at("training_log")) {
-          EpochLog epoch{row.at("stage").get<std::string>(), whole_number<int>(row.at("epoch"), "epoch", origin), {}};
-          // Stages become CSV fields of the training log as they are.
-          if (epoch.stage.empty() || epoch.stage.find_first_of(",\"\t\r\n") != std::string::npos) {
-            throw ReportError(fmt::format("{}: training log stage '{}', expected text without commas, quotes or "
-                                          "line breaks", origin, shown_text(epoch.stage)));
-          }
-          for (const auto& [name, value] : row.at("values").get<std::map<std::string, json>>()) {
-            if (name.empty() || name.find_first_of(",\"\t\r\n") != std::string::npos) {
-              throw ReportError(fmt::format("{}: training log value '{}', expected a name without commas, quotes or "
-                                            "line breaks", origin, shown_text(name)));
-            }
-            epoch.values[name] = number_from(value);
-          }
-          session.training_log.push_back(std::move(epoch));
-        }
-      }
-      for (const double accuracy : {session.accuracy.all, session.accuracy.base, session.accuracy.novel,
-                                    session.accuracy.current, session.accuracy.harmonic}) {
-        if (!(accuracy >= 0 && accuracy <= 100)) {
-          throw ReportError(fmt::format("{}: session {} has an accuracy of {}, expected percentages in [0, 100]",
-                                        origin, session.session, accuracy));
-        }
-      }
-      record.sessions.push_back(session);
-    }
+    record.sessions = sessions_from_json(document.at("sessions"), origin);
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));
     return record;
   } catch (const json::exception& error) {
     throw ReportError(fmt::format("{}: not a valid result file ({})", origin, error.what()));
+  } catch (const ReportError&) {
+    throw;
+  } catch (const Error& error) {  // from the readers in metrics/, which name the file and field
+    throw ReportError(error.what());
   }
 }
 

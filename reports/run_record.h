@@ -11,11 +11,6 @@
 
 namespace fscil {
 
-// One session of a run as its result file holds it: what the runner measured
-// (metrics/session_outcome.h), the one session-result type; context ratios are null in JSON when
-// unknown, as are diverged diagnostics.
-using SessionRecord = SessionOutcome;
-
 // The trained model's inference cost per sample, after the last session (rules in
 // metrics/model_cost.h) and its measured inference time (IT).
 struct InferenceRecord {
@@ -52,7 +47,8 @@ struct RunRecord {
   std::string version;     // the harness's release; empty in files written before it was recorded
   std::string git_commit;  // the commit the binary was built from
   std::string dataset_key;  // cache key: which exact data was used
-  std::vector<SessionRecord> sessions;
+  // What the runner measured (metrics/session_outcome.h), written by metrics/session_json.h.
+  std::vector<SessionOutcome> sessions;
   double total_seconds = 0;
   std::int64_t peak_resident_bytes = 0;  // this run's peak, dataset included
   InferenceRecord inference;  // all zero in files written before costs were counted

@@ -4,12 +4,28 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+
+#include "metrics/session_fields.h"
 
 namespace fscil {
 
 namespace {
 
-std::string number_or_empty(double value) { return std::isnan(value) ? std::string() : fmt::format("{:.4f}", value); }
+using Kind = SessionField::Kind;
+
+std::string cell(const SessionField& field, const SessionOutcome& session) {
+  const double value = field.value(session);
+  switch (field.kind) {
+    case Kind::count:
+    case Kind::samples: return fmt::format("{}", static_cast<std::int64_t>(value));
+    case Kind::percent: return fmt::format("{:.4f}", value);
+    case Kind::novel_percent: return session.session > 0 ? fmt::format("{:.4f}", value) : "";
+    case Kind::seconds: return fmt::format("{:.3f}", value);
+    case Kind::ratio: return std::isnan(value) ? "" : fmt::format("{:.4f}", value);
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -24,8 +40,11 @@ std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
   }
   std::string out = "method,dataset";
   for (const auto& key : grid_keys) out += "," + key;
-  out += ",split,selection,seed,session,seen_classes,accuracy,base,novel,current,harmonic_mean,train_seconds,"
-         "test_seconds,R\n";
+  out += ",split,selection,seed";
+  for (const auto& field : session_fields()) {
+    if (field.column) out += fmt::format(",{}", field.column);
+  }
+  out += "\n";
   for (const auto& record : records) {
     for (const auto& session : record.sessions) {
       out += fmt::format("{},{}", record.method, record.dataset);
@@ -33,14 +52,11 @@ std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
         const auto found = record.grid.find(key);
         out += "," + (found == record.grid.end() ? std::string() : found->second);
       }
-      const bool incremental = session.session > 0;
-      const auto& accuracy = session.accuracy;
-      out += fmt::format(",{},{},{},{},{},{:.4f},{:.4f},{},{},{},{:.3f},{:.3f},{}\n", record.evaluated_on,
-                         record.selection, record.seed, session.session, session.seen_classes, accuracy.all,
-                         accuracy.base, incremental ? fmt::format("{:.4f}", accuracy.novel) : "",
-                         incremental ? fmt::format("{:.4f}", accuracy.current) : "",
-                         incremental ? fmt::format("{:.4f}", accuracy.harmonic) : "", session.train_seconds,
-                         session.test_seconds, number_or_empty(session.context_ratio_mean));
+      out += fmt::format(",{},{},{}", record.evaluated_on, record.selection, record.seed);
+      for (const auto& field : session_fields()) {
+        if (field.column) out += "," + cell(field, session);
+      }
+      out += "\n";
     }
   }
   return out;

@@ -15,10 +15,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/stable_hash.h"
 #include "core/error.h"
+#include "metrics/session_json.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
 #include "tests/fuzz/fuzz_torch_setup.h"
@@ -129,15 +131,14 @@ std::string any_fields(FuzzedDataProvider& in) {
   const fscil::RunCheckpoint state = run_state(in);
   std::ostringstream generator;
   generator << state.generator;
-  std::string diagnostics;
-  for (int line = in.ConsumeIntegralInRange(0, 3); line > 0; --line) {
-    diagnostics += std::to_string(in.ConsumeIntegralInRange(-1, 4)) + "\t" + name_of(in) + "\t" +
-                   std::to_string(any_double(in)) + "\n";
+  // The sessions as the serialiser writes them, or with one character changed.
+  std::string sessions = fscil::sessions_json(state.outcomes, fscil::NonFinite::text).dump();
+  if (!sessions.empty() && in.ConsumeBool()) {
+    sessions[in.ConsumeIntegralInRange<std::size_t>(0, sessions.size() - 1)] = in.ConsumeIntegral<char>();
   }
   torch::serialize::OutputArchive archive;
   write_field(archive, "identity", text_tensor(kIdentity), in);
-  write_field(archive, "outcomes", torch::zeros({in.ConsumeIntegralInRange(0, 3), 12}, torch::kDouble), in);
-  write_field(archive, "diagnostics", text_tensor(diagnostics), in);
+  write_field(archive, "sessions", text_tensor(sessions), in);
   write_field(archive, "elapsed_seconds", torch::tensor(any_double(in), torch::kDouble), in);
   write_field(archive, "generator", text_tensor(generator.str()), in);
   write_field(archive, "torch_random_state", state.torch_random_state, in);
@@ -175,7 +176,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   const std::string body = any_fields(in);
   // The header save_checkpoint writes around its body (run_checkpoint.cpp).
-  const std::string header = fmt::format("fscil-bench checkpoint 2\n{} {}\n", body.size(), stable_hash(body));
+  const std::string header = fmt::format("fscil-bench checkpoint 3\n{} {}\n", body.size(), stable_hash(body));
   fuzz::scratch_file("run.ckpt", header + body);
   fuzz::expect_only<ProtocolError>([&] { load_checkpoint(path, kIdentity); });
   return 0;

@@ -2,6 +2,7 @@
 // naming the file, never a crash or a wild allocation (cases found by tests/fuzz).
 #include "protocols/run_checkpoint.h"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -37,7 +38,7 @@ std::string load_error(const fs::path& path) {
 
 // `body` behind the header save_checkpoint writes, so that it passes the length and digest check.
 void write_with_header(const fs::path& path, const std::string& body) {
-  write_text(path, "fscil-bench checkpoint 2\n" + std::to_string(body.size()) + " " + stable_hash(body) + "\n" + body);
+  write_text(path, "fscil-bench checkpoint 3\n" + std::to_string(body.size()) + " " + stable_hash(body) + "\n" + body);
 }
 
 std::string body_of(const fs::path& path) {
@@ -51,24 +52,31 @@ torch::Tensor text_tensor(const std::string& text) {
 
 #define EXPECT_MENTIONS(message, fragment) EXPECT_NE((message).find(fragment), std::string::npos) << (message)
 
-TEST(RunCheckpoint, NanInfiniteAndSubnormalDiagnosticsReadBack) {
+TEST(RunCheckpoint, NanInfiniteAndSubnormalValuesReadBack) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
   RunCheckpoint saved = one_session();
   saved.outcomes[0].diagnostics = {{"base_ce_mean", std::numeric_limits<double>::quiet_NaN()},
                                    {"side_loss_mean", -std::numeric_limits<double>::infinity()},
                                    {"tiny", std::numeric_limits<double>::denorm_min()}};
+  saved.outcomes[0].context_ratio_max = std::numeric_limits<double>::infinity();
+  saved.outcomes[0].train_seconds = 0.1 + 0.2;
   save_checkpoint(path, saved);
   const RunCheckpoint loaded = load_checkpoint(path, "run");
   const auto& diagnostics = loaded.outcomes.at(0).diagnostics;
   EXPECT_TRUE(std::isnan(diagnostics.at("base_ce_mean")));
   EXPECT_EQ(diagnostics.at("side_loss_mean"), -std::numeric_limits<double>::infinity());
   EXPECT_EQ(diagnostics.at("tiny"), std::numeric_limits<double>::denorm_min());
+  EXPECT_TRUE(std::isnan(loaded.outcomes[0].context_ratio_mean));
+  EXPECT_EQ(loaded.outcomes[0].context_ratio_max, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(loaded.outcomes[0].train_seconds, 0.1 + 0.2);
+  EXPECT_EQ(loaded.outcomes[0].accuracy.samples, 40);
+  EXPECT_EQ(loaded.outcomes[0].seen_classes, 3);
   EXPECT_EQ(loaded.generator, saved.generator);
 }
 
-// Each finished session's training log comes back as it was: stages with spaces (the lines are
-// tab-separated), values exactly (%.17g), a diverged loss as NaN, and epochs in order.
+// Each finished session's training log comes back as it was: stages with spaces, values
+// exactly, a diverged loss as NaN, and epochs in order.
 TEST(RunCheckpoint, TrainingLogsOfFinishedSessionsReadBack) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
@@ -103,14 +111,11 @@ TEST(RunCheckpoint, TrainingLogsOfFinishedSessionsReadBack) {
   }
 }
 
-// A checkpoint body as save_checkpoint writes it for one finished session, with `training_log` as
-// the log's text, or without the log as checkpoints and cached bases written before it were.
-std::string body_with_log(const std::optional<std::string>& training_log) {
+// A checkpoint body as save_checkpoint writes it, with `sessions` as the finished sessions' text.
+std::string body_with_sessions(const std::string& sessions) {
   torch::serialize::OutputArchive archive;
   archive.write("identity", text_tensor("run"));
-  archive.write("outcomes", torch::zeros({1, 12}, torch::kDouble));
-  archive.write("diagnostics", text_tensor(""));
-  if (training_log) archive.write("training_log", text_tensor(*training_log));
+  archive.write("sessions", text_tensor(sessions));
   archive.write("elapsed_seconds", torch::tensor(1.5, torch::kDouble));
   std::ostringstream generator;
   generator << std::mt19937_64(3);
@@ -124,39 +129,69 @@ std::string body_with_log(const std::optional<std::string>& training_log) {
   return body.str();
 }
 
-TEST(RunCheckpoint, ACheckpointFromBeforeTrainingLogsReadsWithNone) {
+constexpr const char* kSessionFields =
+    R"("session":0,"seen_classes":3,"accuracy":60.0,"base_accuracy":60.0,"novel_accuracy":0.0,)"
+    R"("current_accuracy":60.0,"harmonic_mean":0.0,"test_samples":40,"train_seconds":1.0,"test_seconds":0.5,)"
+    R"("context_ratio_mean":null,"context_ratio_max":"inf")";
+
+TEST(RunCheckpoint, ASessionWithoutDiagnosticsOrTrainingLogReadsWithNone) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
-  write_with_header(path, body_with_log(std::nullopt));
+  write_with_header(path, body_with_sessions(fmt::format("[{{{}}}]", kSessionFields)));
   const RunCheckpoint loaded = load_checkpoint(path, "run");
   ASSERT_EQ(loaded.outcomes.size(), 1u);
   EXPECT_TRUE(loaded.outcomes[0].training_log.empty());
+  EXPECT_TRUE(loaded.outcomes[0].diagnostics.empty());
+  EXPECT_EQ(loaded.outcomes[0].accuracy.samples, 40);
+  EXPECT_EQ(loaded.outcomes[0].context_ratio_max, std::numeric_limits<double>::infinity());
   EXPECT_EQ(loaded.elapsed_seconds, 1.5);
-  write_with_header(path, body_with_log("0\tsession 0\t3\tloss\t0.5\n"));
-  ASSERT_EQ(load_checkpoint(path, "run").outcomes[0].training_log.size(), 1u);
-  EXPECT_EQ(load_checkpoint(path, "run").outcomes[0].training_log[0].stage, "session 0");
 }
 
-TEST(RunCheckpoint, ATrainingLogLineOfNoFinishedSessionOrWithoutItsFiveFieldsIsRefused) {
+TEST(RunCheckpoint, SessionResultsThatTheSerialiserDidNotWriteAreRefused) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
-  for (const char* line : {"1\tpretrain\t1\tloss\t0.5\n",  // one session finished: session 0 only
-                           "-1\tpretrain\t1\tloss\t0.5\n", "\tpretrain\t1\tloss\t0.5\n",
-                           "0\tpretrain\t1\tloss\n", "0\tpretrain\t1\tloss\t0.5\textra\n",
-                           "0\tpretrain\tone\tloss\t0.5\n", "0\tpretrain\t\tloss\t0.5\n",
-                           "0\tpretrain\t1\tloss\t0.5x\n", "0 pretrain 1 loss 0.5\n"}) {
-    write_with_header(path, body_with_log(line));
-    EXPECT_MENTIONS(load_error(path), "run.ckpt: corrupt checkpoint (a training log line is not session, stage, "
-                                      "epoch, name and value of a finished session)")
-        << line;
+  const std::string fields = kSessionFields;
+  const auto with = [&](const std::string& from, const std::string& to) {
+    std::string text = fields;
+    text.replace(text.find(from), from.size(), to);
+    return "[{" + text + "}]";
+  };
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[{", "session results: "},
+      {"{}", "sessions {}, expected a list"},
+      {"[{}]", "session results: "},
+      {with("\"session\":0", "\"session\":-1"), "session -1, expected a whole number from 0"},
+      {with("\"session\":0", "\"session\":0.5"), "session 0.5, expected a whole number"},
+      {with("\"test_samples\":40", "\"test_samples\":1e300"), "test_samples 1e+300, expected a whole number"},
+      {with("\"accuracy\":60.0", "\"accuracy\":150.0"), "session 0 has an accuracy of 150"},
+      {with("\"accuracy\":60.0", "\"accuracy\":\"nan\""), "accuracy \"nan\", expected a number"},
+      {with("\"context_ratio_max\":\"inf\"", "\"context_ratio_max\":\"huge\""),
+       "context_ratio_max \"huge\", expected a number, null"},
+      {"[{" + fields + R"(,"diagnostics":{"loss":"x"}}])", "diagnostic loss \"x\", expected a number"},
+      {"[{" + fields + R"(,"training_log":[{"stage":"pre,train","epoch":1,"values":{}}]}])",
+       "training log stage 'pre,train', expected text without commas"},
+  };
+  for (const auto& [sessions, fragment] : cases) {
+    write_with_header(path, body_with_sessions(sessions));
+    const std::string error = load_error(path);
+    EXPECT_MENTIONS(error, "run.ckpt: corrupt checkpoint") << sessions;
+    EXPECT_MENTIONS(error, fragment) << sessions;
   }
+}
+
+TEST(RunCheckpoint, ACheckpointOfAnEarlierFormatSaysWhichAndWhatToDo) {
+  TemporaryDirectory directory;
+  const fs::path path = directory.path() / "run.ckpt";
+  write_text(path, "fscil-bench checkpoint 2\n4 0123456789abcdef\nbody");
+  EXPECT_EQ(load_error(path), path.string() + ": fscil-bench checkpoint 2, this version reads fscil-bench checkpoint "
+                                             "3; delete it to start that run over");
 }
 
 TEST(RunCheckpoint, AHeaderDeclaringMoreThanTheFileIsCorruptNotAnAllocation) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
   for (const char* length : {"99999999999999999", "18446744073709551615", "-1"}) {
-    write_text(path, std::string("fscil-bench checkpoint 2\n") + length + " 0123456789abcdef\nbody");
+    write_text(path, std::string("fscil-bench checkpoint 3\n") + length + " 0123456789abcdef\nbody");
     EXPECT_MENTIONS(load_error(path), "run.ckpt: corrupt checkpoint (truncated, altered") << length;
   }
 }
@@ -171,25 +206,6 @@ TEST(RunCheckpoint, AnArchiveLibTorchCannotImportIsAProtocolError) {
   body.replace(at, 10, "c_dtorch__");  // its TorchScript importer throws an ErrorReport, no c10::Error
   write_with_header(path, body);
   EXPECT_MENTIONS(load_error(path), "run.ckpt: corrupt checkpoint (");
-}
-
-TEST(RunCheckpoint, SessionResultsOfAnotherShapeOrWithNoWholeCountsAreRefused) {
-  TemporaryDirectory directory;
-  const fs::path path = directory.path() / "run.ckpt";
-  torch::Tensor nan_session = torch::zeros({1, 12}, torch::kDouble);
-  nan_session[0][0] = std::numeric_limits<double>::quiet_NaN();
-  torch::Tensor huge_samples = torch::zeros({1, 12}, torch::kDouble);
-  huge_samples[0][7] = 1e300;
-  for (const torch::Tensor& rows : {torch::zeros({2, 5}, torch::kDouble), torch::zeros({1, 12}, torch::kFloat),
-                                    torch::zeros({12}, torch::kDouble), nan_session, huge_samples}) {
-    torch::serialize::OutputArchive archive;
-    archive.write("identity", text_tensor("run"));
-    archive.write("outcomes", rows);
-    std::ostringstream body;
-    archive.save_to(body);
-    write_with_header(path, body.str());
-    EXPECT_MENTIONS(load_error(path), "run.ckpt: corrupt checkpoint (session results are not N x 12 values");
-  }
 }
 
 }  // namespace

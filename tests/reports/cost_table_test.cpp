@@ -12,7 +12,7 @@ RunRecord timed_run(const std::string& method, double base, double update, std::
   record.method = method;
   record.dataset = "simtex";
   for (int s = 0; s < 3; ++s) {
-    SessionRecord session;
+    SessionOutcome session;
     session.session = s;
     session.train_seconds = s == 0 ? base : update;
     record.sessions.push_back(session);

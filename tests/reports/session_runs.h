@@ -18,7 +18,7 @@ inline RunRecord run_with_accuracies(const std::string& method, const std::strin
   record.threads = 2;
   record.machine["kernels"] = "aten=AVX2 openblas=Haswell onednn=avx2";
   for (std::size_t s = 0; s < accuracies.size(); ++s) {
-    SessionRecord session;
+    SessionOutcome session;
     session.session = static_cast<int>(s);
     session.accuracy.all = accuracies[s];
     record.sessions.push_back(session);

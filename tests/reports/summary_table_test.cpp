@@ -26,7 +26,7 @@ RunRecord record_of(const std::string& method, std::uint64_t seed, std::vector<d
   record.git_commit = "abc";
   record.dataset_key = "0123";
   for (std::size_t s = 0; s < accuracies.size(); ++s) {
-    SessionRecord session;
+    SessionOutcome session;
     session.session = static_cast<int>(s);
     session.seen_classes = 10 + 5 * static_cast<int>(s);
     session.accuracy.all = accuracies[s];

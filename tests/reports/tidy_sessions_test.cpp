@@ -18,7 +18,7 @@ RunRecord two_sessions(const std::string& method, std::uint64_t seed, double bas
   record.sessions[0].train_seconds = 12.5;
   record.sessions[0].test_seconds = 0.5;
   record.sessions[0].context_ratio_mean = 0.125;
-  SessionRecord& novel = record.sessions[1];
+  SessionOutcome& novel = record.sessions[1];
   novel.seen_classes = 15;
   novel.accuracy.base = base_accuracy;
   novel.accuracy.novel = novel_accuracy;

@@ -1,0 +1,138 @@
+#include "metrics/session_json.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/shown_text.h"
+#include "metrics/json_numbers.h"
+#include "metrics/session_fields.h"
+
+namespace fscil {
+
+namespace {
+
+using nlohmann::json;
+using Kind = SessionField::Kind;
+
+json number_json(double value, NonFinite non_finite) {
+  if (std::isfinite(value)) return value;
+  if (non_finite == NonFinite::null) return nullptr;
+  return std::isnan(value) ? "nan" : value > 0 ? "inf" : "-inf";
+}
+
+// A number, or what number_json wrote for a value that is not finite.
+double number_of(const json& value, const std::string& field, const std::string& origin) {
+  if (value.is_number()) return value.get<double>();
+  if (value.is_null() || value == "nan") return std::numeric_limits<double>::quiet_NaN();
+  if (value == "inf") return std::numeric_limits<double>::infinity();
+  if (value == "-inf") return -std::numeric_limits<double>::infinity();
+  throw Error(fmt::format("{}: {} {}, expected a number, null, \"nan\", \"inf\" or \"-inf\"", origin, field,
+                          shown_text(value.dump())));
+}
+
+// Stages and value names become CSV fields of the training log as they are.
+void require_csv_text(const std::string& text, const std::string& what, const std::string& expected,
+                      const std::string& origin) {
+  if (text.empty() || text.find_first_of(",\"\t\r\n") != std::string::npos) {
+    throw Error(fmt::format("{}: training log {} '{}', expected {} without commas, quotes or line breaks", origin,
+                            what, shown_text(text), expected));
+  }
+}
+
+json field_json(const SessionField& field, const SessionOutcome& session, NonFinite non_finite) {
+  const double value = field.value(session);
+  if (field.kind == Kind::count || field.kind == Kind::samples) return static_cast<std::int64_t>(value);
+  return number_json(value, non_finite);
+}
+
+double field_of(const SessionField& field, const json& value, const std::string& origin) {
+  switch (field.kind) {
+    case Kind::count: return whole_number<int>(value, field.key, origin, 0);
+    case Kind::samples: return static_cast<double>(whole_number<std::int64_t>(value, field.key, origin, 0));
+    case Kind::percent:
+    case Kind::novel_percent:
+    case Kind::seconds:
+      if (!value.is_number()) {
+        throw Error(fmt::format("{}: {} {}, expected a number", origin, field.key, shown_text(value.dump())));
+      }
+      return value.get<double>();
+    case Kind::ratio: return number_of(value, field.key, origin);
+  }
+  return 0;
+}
+
+void require_percentages(const SessionOutcome& session, const std::string& origin) {
+  for (const auto& field : session_fields()) {
+    if (field.kind != Kind::percent && field.kind != Kind::novel_percent) continue;
+    const double percent = field.value(session);
+    if (!(percent >= 0 && percent <= 100)) {
+      throw Error(fmt::format("{}: session {} has an accuracy of {}, expected percentages in [0, 100]", origin,
+                              session.session, percent));
+    }
+  }
+}
+
+json training_log_json(const std::vector<EpochLog>& log, NonFinite non_finite) {
+  json rows = json::array();
+  for (const auto& row : log) {
+    json values = json::object();
+    for (const auto& [name, value] : row.values) values[name] = number_json(value, non_finite);
+    rows.push_back({{"stage", row.stage}, {"epoch", row.epoch}, {"values", values}});
+  }
+  return rows;
+}
+
+std::vector<EpochLog> training_log_of(const json& rows, const std::string& origin) {
+  std::vector<EpochLog> log;
+  for (const auto& row : rows) {
+    EpochLog epoch{row.at("stage").get<std::string>(), whole_number<int>(row.at("epoch"), "epoch", origin), {}};
+    require_csv_text(epoch.stage, "stage", "text", origin);
+    for (const auto& [name, value] : row.at("values").get<std::map<std::string, json>>()) {
+      require_csv_text(name, "value", "a name", origin);
+      epoch.values[name] = number_of(value, "training log " + name, origin);
+    }
+    log.push_back(std::move(epoch));
+  }
+  return log;
+}
+
+}  // namespace
+
+json sessions_json(const std::vector<SessionOutcome>& sessions, NonFinite non_finite) {
+  json rows = json::array();
+  for (const auto& session : sessions) {
+    json row = json::object();
+    for (const auto& field : session_fields()) row[field.key] = field_json(field, session, non_finite);
+    json diagnostics = json::object();
+    for (const auto& [name, value] : session.diagnostics) diagnostics[name] = number_json(value, non_finite);
+    row["diagnostics"] = diagnostics;
+    row["training_log"] = training_log_json(session.training_log, non_finite);
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<SessionOutcome> sessions_from_json(const json& rows, const std::string& origin) {
+  if (!rows.is_array()) throw Error(fmt::format("{}: sessions {}, expected a list", origin, shown_text(rows.dump())));
+  std::vector<SessionOutcome> sessions;
+  for (const auto& row : rows) {
+    SessionOutcome session;
+    for (const auto& field : session_fields()) field.set(session, field_of(field, row.at(field.key), origin));
+    require_percentages(session, origin);
+    if (row.contains("diagnostics")) {
+      for (const auto& [name, value] : row.at("diagnostics").get<std::map<std::string, json>>()) {
+        session.diagnostics[name] = number_of(value, "diagnostic " + name, origin);
+      }
+    }
+    // Files written before the log was kept have none.
+    if (row.contains("training_log")) session.training_log = training_log_of(row.at("training_log"), origin);
+    sessions.push_back(std::move(session));
+  }
+  return sessions;
+}
+
+}  // namespace fscil
