@@ -112,25 +112,9 @@ class Method {
   // N x D embeddings -> N x seen classes.
   virtual torch::Tensor classify(const torch::Tensor& embeddings) = 0;
   virtual ReplayFootprint replay_footprint() const { return {}; }
-  // True when learn_session never changes what embed() returns: the runner then embeds each
-  // scored sample once per run rather than once per session (protocols/scored_embeddings.h).
-  // tests/methods/sessions_keep_embedding_test.cpp holds every method that says so to it.
-  virtual bool sessions_keep_embedding() const { return false; }
-  // Parameters this method reads only after the base session (a session's fine-tuning, PSPC): a
-  // base's identity in the stage cache leaves them out, so a sweep over one reuses the base.
-  // tests/methods/session_only_parameters_test.cpp trains a base with each changed and requires
-  // the same state to the bit.
-  virtual std::set<std::string> session_only_parameters() const { return {}; }
-  // True when RunContext::selection never changes what train_base() leaves (its epochs are chosen
-  // in sessions only): the stage cache then shares one base between selections.
-  // tests/methods/session_only_parameters_test.cpp holds every method that says so to it.
-  virtual bool base_ignores_selection() const { return false; }
-  // Variants that differ only after the base session return the same non-empty key (for the same
-  // hyper-parameters); the runner then trains the base once per seed and hands it on.
-  virtual std::string shared_base_key() const { return {}; }
-  // Takes over `trained`'s modules as they stood right after its train_base(), and the run's
-  // random state as it was then, so the sessions that follow are exactly those of a run that
-  // trained its own base. `trained` must not be used afterwards. False when it cannot.
+  // For methods whose registry entries share a base (MethodEntry::shared_base_key): takes over
+  // `trained`'s modules as they stood right after its train_base(), and the run's random state as
+  // it was then, so the sessions that follow are exactly those of a run that trained its own base. `trained` must not be used afterwards. False when it cannot.
   virtual bool continue_from_base(Method& /*trained*/, RunContext& /*context*/) { return false; }
   // Everything later sessions, tests and costs read, for a checkpoint after a session. On a
   // freshly made method (same parameters) restore_state() with the same context continues exactly

@@ -15,53 +15,14 @@ namespace fscil {
 
 namespace {
 
-// The profiles' schedules, per stage. fast and smoke shrink epochs (and the learning-rate step with
-// them, so the decay still happens) and nothing else.
-// The shared supervised pretraining (methods/common/supervised_training.h).
-std::map<std::string, ParameterDefaults> pretraining_profiles() {
-  return {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}}, {"fast", {{"pretrain_epochs", "8"}, {"lr_step", "4"}}}};
-}
-
-// Pretraining, then PITS-SC's pseudo-incremental stage and session fine-tuning (pits-sc and the
-// cop-fscil variants).
-std::map<std::string, ParameterDefaults> pits_sc_profiles() {
-  auto profiles = pretraining_profiles();
-  profiles["smoke"].insert(profiles["smoke"].end(), {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}});
-  profiles["fast"].insert(profiles["fast"].end(), {{"pit_epochs", "2"}});
-  return profiles;
-}
-
-// Pretraining, then OrCo's projector stage as PITS-SC's second stage is shortened (10 epochs: 2 in
-// fast, 1 in smoke), and in smoke its sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up).
-std::map<std::string, ParameterDefaults> orco_profiles() {
-  auto profiles = pretraining_profiles();
-  profiles["smoke"].insert(profiles["smoke"].end(),
-                           {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}});
-  profiles["fast"].insert(profiles["fast"].end(), {{"orco_base_epochs", "2"}});
-  return profiles;
-}
-
+// Each method's folder writes its entry: what the runner, the profiles and the tools need of it.
 std::vector<MethodEntry>& registry() {
-  static const std::vector<std::string> ablation = {"ablation"};
-  static const std::vector<std::string> pretraining = {"pretrain_epochs"};
-  static const std::vector<std::string> pits_sc_stages = {"pretrain_epochs", "pit_epochs"};
-  static std::vector<MethodEntry> table = {
-      {"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
-       &make_prototype_method, {}, pretraining, pretraining_profiles()},
-      {"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, stochastic "
-       "classifier fine-tuned per session", &make_pits_sc_method, ablation, pits_sc_stages, pits_sc_profiles()},
-      {"cop-fscil/cpi", "CoP-FSCIL ablation: pits-sc with context-probing intervention in pseudo-incremental episodes",
-       &make_cop_fscil_cpi, ablation, pits_sc_stages, pits_sc_profiles()},
-      {"cop-fscil/cpi+pspc", "CoP-FSCIL ablation: CPI plus probe-stability prototype calibration in sessions",
-       &make_cop_fscil_cpi_pspc, ablation, pits_sc_stages, pits_sc_profiles()},
-      {"cop-fscil/cpi+pcqa", "CoP-FSCIL ablation: CPI plus the probe-conditioned quotient adapter with L_PIC",
-       &make_cop_fscil_cpi_pcqa, ablation, pits_sc_stages, pits_sc_profiles()},
-      {"cop-fscil", "CoP-FSCIL: CPI, PCQA with L_PIC, and PSPC on the pits-sc stages", &make_cop_fscil, ablation,
-       pits_sc_stages, pits_sc_profiles()},
-      {"orco", "OrCo-style: pseudo-targets, Hungarian assignment, projector trained with SupCon, orthogonality and "
-       "CE; replays 5 exemplars per base class and every earlier shot", &make_orco_method, {},
-       {"pretrain_epochs", "orco_base_epochs"}, orco_profiles()},
-  };
+  static std::vector<MethodEntry> table = [] {
+    std::vector<MethodEntry> entries = {prototype_entry(), pits_sc_entry()};
+    for (MethodEntry& variant : cop_fscil_entries()) entries.push_back(std::move(variant));
+    entries.push_back(orco_entry());
+    return entries;
+  }();
   return table;
 }
 

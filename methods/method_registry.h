@@ -2,6 +2,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,21 @@ struct MethodEntry {
   // How each profile shortens its schedule (protocols/profiles.h): profile name -> defaults; the
   // paper profile changes nothing.
   std::map<std::string, ParameterDefaults> profile_defaults = {};
+
+  // What the runner may share or skip. tests/methods/sessions_keep_embedding_test.cpp and
+  // session_only_parameters_test.cpp hold every built-in method to what its entry declares.
+  // learn_session() never changes what embed() returns: the runner embeds each scored sample once
+  // per run rather than once per session (protocols/scored_embeddings.h).
+  bool sessions_keep_embedding = false;
+  // Parameters read only after the base session (a session's fine-tuning, PSPC): a base's identity
+  // in the stage cache leaves them out, so a sweep over one reuses the base.
+  std::set<std::string> session_only_parameters = {};
+  // RunContext::selection never changes what train_base() leaves (its epochs are chosen in sessions
+  // only): the stage cache shares one base between selections.
+  bool base_ignores_selection = false;
+  // Methods that differ only after the base session name the same key: the runner trains that base
+  // once per seed and hands it on (Method::continue_from_base). Empty: the method shares none.
+  std::string shared_base_key = {};
 };
 
 // The built-in methods, then those added by register_method(), in that order ("all" runs them so).

@@ -132,7 +132,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
                                          const SessionSchedule& schedule, RunContext& context, EvaluationSplit scored,
                                          const std::optional<InheritedBase>& inherited_base,
                                          const SessionCheckpoints& checkpoints,
-                                         const ScoredEmbeddingSink& keep_embeddings) {
+                                         const ScoredEmbeddingSink& keep_embeddings, EmbeddingReuse reuse) {
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const std::vector<std::int64_t>& scored_segments = schedule.scored_segments(scored);
@@ -143,9 +143,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
   std::vector<int> first_session;
   for (std::int64_t label : schedule.labels_of(scored_segments)) first_session.push_back(plan.session_of_class(label));
-  ScoredEmbeddings scored_embeddings(
-      feature_rows(dataset, scored_segments), std::move(first_session),
-      method.sessions_keep_embedding() ? EmbeddingReuse::once_per_run : EmbeddingReuse::every_session);
+  ScoredEmbeddings scored_embeddings(feature_rows(dataset, scored_segments), std::move(first_session), reuse);
   std::vector<SessionOutcome> outcomes = checkpoints.finished;
   if (!outcomes.empty()) scored_embeddings.keep_up_to(method, static_cast<int>(outcomes.size()) - 1);
   for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {

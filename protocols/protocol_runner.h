@@ -7,6 +7,7 @@
 #include "datasets/prepared_dataset.h"
 #include "methods/method.h"
 #include "metrics/session_outcome.h"
+#include "protocols/scored_embeddings.h"
 #include "protocols/session_schedule.h"
 
 namespace fscil {
@@ -47,12 +48,14 @@ using ScoredEmbeddingSink =
 // joint `scored` split (test, or validation) of all classes seen so far. The runner never knows
 // which method it drives. With `inherited_base` the method already holds a base trained
 // elsewhere: session 0 is only scored, and reports that base's training time and diagnostics.
+// `reuse`: once_per_run for a method whose entry declares sessions_keep_embedding.
 std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& dataset,
                                          const SessionSchedule& schedule, RunContext& context,
                                          EvaluationSplit scored = EvaluationSplit::test,
                                          const std::optional<InheritedBase>& inherited_base = std::nullopt,
                                          const SessionCheckpoints& checkpoints = {},
-                                         const ScoredEmbeddingSink& keep_embeddings = {});
+                                         const ScoredEmbeddingSink& keep_embeddings = {},
+                                         EmbeddingReuse reuse = EmbeddingReuse::every_session);
 
 struct InferenceTiming {
   double seconds_per_sample = 0;

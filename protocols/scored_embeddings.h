@@ -9,13 +9,13 @@
 
 namespace fscil {
 
-// How often a scored sample is embedded: once per run (Method::sessions_keep_embedding) or
+// How often a scored sample is embedded: once per run (MethodEntry::sessions_keep_embedding) or
 // after every session that scores it.
 enum class EmbeddingReuse { once_per_run, every_session };
 
 // The embeddings the runner scores a session on: embed() of the scored samples of every class
 // seen so far, in the scored split's order. Most methods leave embed() unchanged after the base
-// session (Method::sessions_keep_embedding); their samples are then embedded once per run, a
+// session (MethodEntry::sessions_keep_embedding); their samples are then embedded once per run, a
 // session's new classes' samples when that session is scored, instead of every session again.
 // The batches are those a run from the first session makes, so a run resumed after any session
 // scores on the same embeddings to the bit.

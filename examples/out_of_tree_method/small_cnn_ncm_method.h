@@ -14,7 +14,6 @@ class SmallCnnNcmMethod : public fscil::ModuleMethod {
   void learn_session(const fscil::SessionData& support, fscil::RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
-  bool sessions_keep_embedding() const override { return true; }  // the encoder is frozen after the base
 
  protected:
   fscil::NamedModules build(const fscil::RunContext& context) override;

@@ -76,4 +76,8 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
   return train_epochs(parameters, cross_entropy, data, schedule, context, phase);
 }
 
+std::map<std::string, ParameterDefaults> pretraining_profiles() {
+  return {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}}, {"fast", {{"pretrain_epochs", "8"}, {"lr_step", "4"}}}};
+}
+
 }  // namespace fscil

@@ -6,6 +6,7 @@
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
 #include "methods/method.h"
+#include "methods/method_registry.h"
 
 namespace fscil {
 
@@ -44,5 +45,9 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
 double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& data,
                         std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
                         const std::string& phase);
+
+// How the profiles shorten this pretraining (MethodEntry::profile_defaults): epochs, and the
+// learning-rate step with them so that the decay still happens; nothing else.
+std::map<std::string, ParameterDefaults> pretraining_profiles();
 
 }  // namespace fscil

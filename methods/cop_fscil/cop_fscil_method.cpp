@@ -237,15 +237,9 @@ void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
   base_state_ = std::move(state);
 }
 
-std::set<std::string> CopFscilMethod::session_only_parameters() const {
-  std::set<std::string> keys = PitsScMethod::session_only_parameters();
-  keys.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
-  return keys;
-}
-
 bool CopFscilMethod::continue_from_base(Method& trained, RunContext& context) {
   auto* source = dynamic_cast<CopFscilMethod*>(&trained);
-  if (source == nullptr || source->base_state_ == nullptr || source->shared_base_key() != shared_base_key()) return false;
+  if (source == nullptr || source->base_state_ == nullptr || source->components_.pcqa != components_.pcqa) return false;
   encoder_ = source->encoder_;
   classifier_ = source->classifier_;
   adapter_ = source->adapter_;
@@ -306,15 +300,28 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
   stored_means_ = torch::cat({stored_means_, new_means});
 }
 
-std::unique_ptr<Method> make_cop_fscil_cpi(const ParameterSet& params) {
-  return std::make_unique<CopFscilMethod>(params, CopFscilComponents{false, false});
+std::vector<MethodEntry> cop_fscil_entries() {
+  const auto variant = [](const std::string& name, const std::string& summary, CopFscilComponents components) {
+    MethodEntry entry = pits_sc_entry();  // its stages, profiles and hints
+    entry.name = name;
+    entry.summary = summary;
+    entry.create = [components](const ParameterSet& params) {
+      return std::make_unique<CopFscilMethod>(params, components);
+    };
+    entry.session_only_parameters.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
+    // PSPC acts in sessions only: the variants with and without it share their base.
+    entry.shared_base_key = components.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa";
+    return entry;
+  };
+  return {variant("cop-fscil/cpi", "CoP-FSCIL ablation: pits-sc with context-probing intervention in "
+                  "pseudo-incremental episodes", {false, false}),
+          variant("cop-fscil/cpi+pspc", "CoP-FSCIL ablation: CPI plus probe-stability prototype calibration in "
+                  "sessions", {false, true}),
+          variant("cop-fscil/cpi+pcqa", "CoP-FSCIL ablation: CPI plus the probe-conditioned quotient adapter with "
+                  "L_PIC", {true, false}),
+          variant("cop-fscil", "CoP-FSCIL: CPI, PCQA with L_PIC, and PSPC on the pits-sc stages", {true, true})};
 }
-std::unique_ptr<Method> make_cop_fscil_cpi_pspc(const ParameterSet& params) {
-  return std::make_unique<CopFscilMethod>(params, CopFscilComponents{false, true});
-}
-std::unique_ptr<Method> make_cop_fscil_cpi_pcqa(const ParameterSet& params) {
-  return std::make_unique<CopFscilMethod>(params, CopFscilComponents{true, false});
-}
+
 std::unique_ptr<Method> make_cop_fscil(const ParameterSet& params) {
   return std::make_unique<CopFscilMethod>(params, CopFscilComponents{true, true});
 }

@@ -22,10 +22,7 @@ class CopFscilMethod : public PitsScMethod {
   CopFscilMethod(const ParameterSet& params, CopFscilComponents components);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
-  // cop-fscil/cpi and cop-fscil/cpi+pspc share their base, as do cop-fscil/cpi+pcqa and cop-fscil.
-  std::string shared_base_key() const override { return components_.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa"; }
   bool continue_from_base(Method& trained, RunContext& context) override;
-  std::set<std::string> session_only_parameters() const override;
   torch::Tensor embed(const torch::Tensor& features) override;
   ModelCost inference_cost(const InputShape& input) const override;
   MethodState save_state() const override;
@@ -75,9 +72,8 @@ class CopFscilMethod : public PitsScMethod {
   std::shared_ptr<const BaseState> base_state_;
 };
 
-std::unique_ptr<Method> make_cop_fscil_cpi(const ParameterSet& params);
-std::unique_ptr<Method> make_cop_fscil_cpi_pspc(const ParameterSet& params);
-std::unique_ptr<Method> make_cop_fscil_cpi_pcqa(const ParameterSet& params);
+// cop-fscil/cpi, cop-fscil/cpi+pspc, cop-fscil/cpi+pcqa and cop-fscil, in the ablation's order.
+std::vector<MethodEntry> cop_fscil_entries();
 std::unique_ptr<Method> make_cop_fscil(const ParameterSet& params);
 
 }  // namespace fscil

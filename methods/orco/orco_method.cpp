@@ -287,12 +287,6 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
                   stop, context, fmt::format("session {}", support.session), "session");
 }
 
-std::set<std::string> OrcoMethod::session_only_parameters() const {
-  return {"orco_session_epochs",   "orco_session_lr",       "orco_session_batch",   "orco_session_warmup",
-          "orco_session_stop",     "orco_session_check",    "orco_session_patience", "orco_novel_ce_weight",
-          "orco_base_ce_weight",   "orco_session_orthogonality"};
-}
-
 MethodState OrcoMethod::save_state() const {
   std::vector<std::uint8_t> taken(target_taken_.begin(), target_taken_.end());
   MethodState state{{"base_classes", torch::tensor(base_classes_)},
@@ -345,6 +339,24 @@ ModelCost OrcoMethod::inference_cost(const InputShape& input) const {
   return cost;
 }
 
-std::unique_ptr<Method> make_orco_method(const ParameterSet& params) { return std::make_unique<OrcoMethod>(params); }
+MethodEntry orco_entry() {
+  MethodEntry entry{"orco", "OrCo-style: pseudo-targets, Hungarian assignment, projector trained with SupCon, "
+                    "orthogonality and CE; replays 5 exemplars per base class and every earlier shot",
+                    [](const ParameterSet& params) { return std::make_unique<OrcoMethod>(params); }};
+  entry.base_epoch_keys = {"pretrain_epochs", "orco_base_epochs"};
+  // The projector stage shortened as PITS-SC's second stage is (10 epochs: 2 in fast, 1 in smoke),
+  // and in smoke its sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up).
+  entry.profile_defaults = pretraining_profiles();
+  auto& smoke = entry.profile_defaults["smoke"];
+  smoke.insert(smoke.end(), {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}});
+  auto& fast = entry.profile_defaults["fast"];
+  fast.insert(fast.end(), {{"orco_base_epochs", "2"}});
+  entry.session_only_parameters = {"orco_session_epochs", "orco_session_lr",       "orco_session_batch",
+                                   "orco_session_warmup", "orco_session_stop",     "orco_session_check",
+                                   "orco_session_patience", "orco_novel_ce_weight", "orco_base_ce_weight",
+                                   "orco_session_orthogonality"};
+  entry.base_ignores_selection = true;  // phase 2 keeps its last epoch
+  return entry;
+}
 
 }  // namespace fscil

@@ -24,8 +24,6 @@ class OrcoMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
-  std::set<std::string> session_only_parameters() const override;
-  bool base_ignores_selection() const override { return true; }  // phase 2 keeps its last epoch
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;
   ReplayFootprint replay_footprint() const override { return {memory_.samples(), memory_.bytes()}; }
@@ -81,6 +79,6 @@ class OrcoMethod : public Method {
   ReplayMemory memory_;
 };
 
-std::unique_ptr<Method> make_orco_method(const ParameterSet& params);
+MethodEntry orco_entry();
 
 }  // namespace fscil

@@ -218,8 +218,21 @@ ModelCost PitsScMethod::inference_cost(const InputShape& input) const {
   return cost;
 }
 
-std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params) {
-  return std::make_unique<PitsScMethod>(params);
+MethodEntry pits_sc_entry() {
+  MethodEntry entry{"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, "
+                    "stochastic classifier fine-tuned per session",
+                    [](const ParameterSet& params) { return std::make_unique<PitsScMethod>(params); }};
+  entry.groups = {"ablation"};
+  entry.base_epoch_keys = {"pretrain_epochs", "pit_epochs"};
+  // Its pseudo-incremental stage and its sessions shortened as the pretraining is.
+  entry.profile_defaults = pretraining_profiles();
+  auto& smoke = entry.profile_defaults["smoke"];
+  smoke.insert(smoke.end(), {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}});
+  auto& fast = entry.profile_defaults["fast"];
+  fast.insert(fast.end(), {{"pit_epochs", "2"}});
+  entry.sessions_keep_embedding = true;  // sessions fine-tune the classifier only
+  entry.session_only_parameters = {"epochs_new", "lr_new", "lamda_proto"};
+  return entry;
 }
 
 }  // namespace fscil

@@ -24,8 +24,6 @@ class PitsScMethod : public Method {
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
   ModelCost inference_cost(const InputShape& input) const override;
-  bool sessions_keep_embedding() const override { return true; }  // sessions fine-tune the classifier only
-  std::set<std::string> session_only_parameters() const override { return {"epochs_new", "lr_new", "lamda_proto"}; }
   MethodState save_state() const override;
   void restore_state(const MethodState& state, RunContext& context) override;
 
@@ -80,6 +78,7 @@ class PitsScMethod : public Method {
   PitsScSettings settings_;
 };
 
-std::unique_ptr<Method> make_pits_sc_method(const ParameterSet& params);
+// The pits-sc entry; the cop-fscil variants build theirs on its stages, profiles and hints.
+MethodEntry pits_sc_entry();
 
 }  // namespace fscil

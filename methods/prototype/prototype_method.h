@@ -1,38 +1,43 @@
 #pragma once
 #include <memory>
 
+#include "methods/common/class_count.h"
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
 #include "methods/common/supervised_training.h"
-#include "methods/method.h"
+#include "methods/method_registry.h"
+#include "methods/module_method.h"
 
 namespace fscil {
 
 // The plain baseline: train encoder + cosine classifier on the base classes, then freeze the
-// encoder; every class (base ones too) is represented by its mean normalised embedding.
-class PrototypeMethod : public Method {
+// encoder; every class (base ones too) is represented by its mean normalised embedding. Its state
+// is its modules (ModuleMethod): the encoder, the classifier's rows and the count of seen classes.
+class PrototypeMethod : public ModuleMethod {
  public:
   explicit PrototypeMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
   torch::Tensor embed(const torch::Tensor& features) override;
   torch::Tensor classify(const torch::Tensor& embeddings) override;
+  // Walked, as the other built-in methods' costs are, rather than traced: a trace counts the
+  // encoder's input norm as element-wise work, the walk as a norm (metrics/model_cost.h), and the
+  // cost tables compare the methods by the same rules.
   ModelCost inference_cost(const InputShape& input) const override;
-  bool sessions_keep_embedding() const override { return true; }  // sessions only add prototypes
-  MethodState save_state() const override;
-  void restore_state(const MethodState& state, RunContext& context) override;
+
+ protected:
+  NamedModules build(const RunContext& context) override;
 
  private:
-  void build_network(const RunContext& context);
   void add_prototypes(const SessionData& data);
 
   SupervisedSchedule schedule_;
   double temperature_;
   ResNet18Encoder encoder_{nullptr};
   CosineClassifier classifier_{nullptr};
-  std::int64_t seen_classes_ = 0;
+  ClassCount seen_classes_{nullptr};
 };
 
-std::unique_ptr<Method> make_prototype_method(const ParameterSet& params);
+MethodEntry prototype_entry();
 
 }  // namespace fscil

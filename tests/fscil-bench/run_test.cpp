@@ -268,7 +268,7 @@ TEST(Cli, SaveModelKeepsEachRunsStateForPythonsTorchLoad) {
     GTEST_SKIP() << FSCIL_PYTHON << " has no torch (Debian python3-torch, installed by tools/bootstrap.sh)";
   }
   FILE* pipe = ::popen((std::string(FSCIL_PYTHON) + " -c \"import torch, sys; d = torch.load(sys.argv[1]); "
-                        "print(len(d), int(d['seen_classes']), tuple(d['encoder.conv1.weight'].shape), "
+                        "print(len(d), int(d['seen_classes.count']), tuple(d['encoder.conv1.weight'].shape), "
                         "all(isinstance(v, torch.Tensor) for v in d.values()))\" " + model.string() + " 2>&1").c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;

@@ -25,7 +25,6 @@ class LinearMeans : public ModuleMethod {
     torch::NoGradGuard no_grad;
     return torch::mm(embeddings, means_->weight.narrow(0, 0, means_->seen.item<std::int64_t>()).t());
   }
-  bool sessions_keep_embedding() const override { return true; }
 
  protected:
   NamedModules build(const RunContext& context) override {

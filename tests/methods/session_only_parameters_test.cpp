@@ -1,4 +1,4 @@
-// What a method declares as read only after the base session (Method::session_only_parameters,
+// What a method declares as read only after the base session (MethodEntry::session_only_parameters,
 // left out of a base's stage-cache identity) really leaves the base untouched: a base trained
 // with each such value changed ends in the same state, to the bit, with the same random state.
 #include <gtest/gtest.h>
@@ -59,7 +59,8 @@ TEST_P(SessionOnlyParameters, LeaveTheBaseSessionAsItWas) {
   const Case& c = GetParam();
   ParameterSet probe;
   for (const auto& [key, value] : c.base) probe.set(key, value);
-  const std::set<std::string> declared = create_method(c.method, probe)->session_only_parameters();
+  create_method(c.method, probe);  // marks the parameters it reads
+  const std::set<std::string>& declared = method_entry(c.method).session_only_parameters;
   std::set<std::string> tested;
   for (const auto& [key, value] : c.changed) {
     tested.insert(key);
@@ -104,7 +105,7 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
-// Every method whose base_ignores_selection() says so ends its base in the same state under every
+// Every method whose entry says base_ignores_selection ends its base in the same state under every
 // selection (the stage cache shares it).
 TEST(BaseIgnoresSelection, HoldsForEveryMethodThatSaysSo) {
   const std::map<std::string, Values> short_bases = {
@@ -112,8 +113,7 @@ TEST(BaseIgnoresSelection, HoldsForEveryMethodThatSaysSo) {
        {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"orco_base_epochs", "2"}, {"orco_views", "2"},
         {"orco_target_steps", "50"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}}}};
   for (const auto& entry : method_registry()) {
-    ParameterSet probe;
-    if (!create_method(entry.name, probe)->base_ignores_selection()) continue;
+    if (!entry.base_ignores_selection) continue;
     ASSERT_EQ(short_bases.count(entry.name), 1u) << entry.name << " needs a short base here";
     const BaseOutcome last = train_base(entry.name, short_bases.at(entry.name));
     for (const EpochSelection selection : {EpochSelection::validation, EpochSelection::test_oracle}) {

@@ -1,4 +1,4 @@
-// What a method declares with Method::sessions_keep_embedding (the runner then embeds each scored
+// What a method's entry declares with MethodEntry::sessions_keep_embedding (the runner then embeds each scored
 // sample once per run) holds: embed() gives the same values, to the bit, after two sessions as
 // after the base session. A method that does not declare it must change its embedding here, so
 // the test would notice a declaration a method could have made but did not, or one it broke.
@@ -37,8 +37,8 @@ TEST(SessionsKeepEmbedding, HoldsForEveryMethodThatDeclaresItAndOnlyForThose) {
     method->learn_session(tiny_support(6), context);
     method->learn_session(tiny_support(8), context);
     const bool unchanged = torch::equal(method->embed(samples), before);
-    EXPECT_EQ(unchanged, method->sessions_keep_embedding()) << name;
-    if (method->sessions_keep_embedding()) keeping.insert(name);
+    EXPECT_EQ(unchanged, method_entry(name).sessions_keep_embedding) << name;
+    if (method_entry(name).sessions_keep_embedding) keeping.insert(name);
   }
   EXPECT_EQ(keeping, (std::set<std::string>{"prototype", "pits-sc", "cop-fscil", "cop-fscil/cpi", "cop-fscil/cpi+pspc",
                                              "cop-fscil/cpi+pcqa"}));

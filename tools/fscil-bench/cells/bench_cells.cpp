@@ -26,7 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The methods of a command grouped by the base session they share (Method::shared_base_key), in
+// The methods of a command grouped by the base session they share (MethodEntry::shared_base_key), in
 // the order --methods names them; with the epochs of that base.
 struct MethodGroup {
   std::vector<std::string> methods;
@@ -56,7 +56,8 @@ std::vector<MethodGroup> method_groups(const RunOptions& options) {
   std::vector<std::string> keys;
   for (const auto& name : resolve_method_names(options.methods)) {
     ParameterSet read = params;
-    const std::string key = create_method(name, read)->shared_base_key();
+    create_method(name, read);  // marks the parameters it reads
+    const std::string& key = method_entry(name).shared_base_key;
     const auto same = key.empty() ? keys.end() : std::find(keys.begin(), keys.end(), key);
     if (same == keys.end()) {
       groups.push_back({{name}, base_epochs(name, read)});

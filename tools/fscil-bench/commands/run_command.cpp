@@ -357,7 +357,7 @@ struct RunInProgress {
   std::string identity;
   fs::path checkpoint_file;
   RunContext context;
-  std::string base_key;       // Method::shared_base_key
+  std::string base_key;       // MethodEntry::shared_base_key
   std::string base_identity;  // the stage cache's key of its base; empty without the cache
   std::optional<InheritedBase> inherited_base;
   std::string base_trained_by;
@@ -373,8 +373,9 @@ std::string base_identity_of(const RunOptions& options, const CommandPlan& plan,
                              const RunInProgress& run) {
   if (!runs.stage_caching()) return {};
   std::map<std::string, std::string> base_method_values = run.params.used();
-  for (const std::string& key : run.method->session_only_parameters()) base_method_values.erase(key);
-  if (options.selection != "last" && !run.method->base_ignores_selection()) {
+  const MethodEntry& entry = method_entry(run.method_name);
+  for (const std::string& key : entry.session_only_parameters) base_method_values.erase(key);
+  if (options.selection != "last" && !entry.base_ignores_selection) {
     base_method_values["selection"] = options.selection;
   }
   return base_stage_identity({runs.code, run.base_key.empty() ? run.method_name : run.base_key, plan.dataset.cache_key,
@@ -489,8 +490,10 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
       saved_embeddings.labels[session] = std::vector<std::int32_t>(labels.begin(), labels.end());
     };
   }
+  const EmbeddingReuse reuse = method_entry(run.method_name).sessions_keep_embedding ? EmbeddingReuse::once_per_run
+                                                                                     : EmbeddingReuse::every_session;
   const auto outcomes = run_sessions(*run.method, plan.dataset, schedule, run.context, plan.evaluation,
-                                     run.inherited_base, run.checkpoints, keep_embeddings);
+                                     run.inherited_base, run.checkpoints, keep_embeddings, reuse);
   const fs::path file_name = run_record_file_name(run.record);
   if (plan.save_session) {
     saved_embeddings.write(fs::path(options.out) / "embeddings" / fs::path(file_name).replace_extension(".h5"),
@@ -568,7 +571,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
   run.context.progress = &progress;
   reset_peak_resident();
   run.clock = Stopwatch();
-  run.base_key = run.method->shared_base_key();
+  run.base_key = method_entry(run.method_name).shared_base_key;
   run.base_identity = base_identity_of(options, plan, runs, run);
   choose_base(options, plan, runs, run, progress);
   checkpoint_after_each_session(runs, run, progress);
