@@ -28,7 +28,7 @@ namespace {
 
 TEST(Cli, CheckComparesResultsWithReferenceNumbersBothWays) {
   TemporaryDirectory out;
-  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out " +
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out " +
                     out.path().string()).exit_code, 0);
   const std::string reference = (out.path() / "reference.csv").string();
   ASSERT_EQ(run_cli("reference --results " + out.path().string() + " --out " + reference).exit_code, 0);

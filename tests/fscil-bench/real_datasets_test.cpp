@@ -32,7 +32,7 @@ class RealDatasetSmokeRun : public ::testing::Test {
   // Not --quiet: the progress lines show the input shape.
   CommandResult run(const std::string& dataset, const std::string& protocol) {
     return run_cli("--methods prototype --dataset " + dataset + " --data-root " + data.path().string() +
-                   " --profile smoke --threads 2 --no-cache --out " + out.path().string() + " " + protocol);
+                   " --profile smoke --threads 1 --no-cache --out " + out.path().string() + " " + protocol);
   }
   // Session accuracies of the run's result file, which must exist.
   std::vector<double> accuracies(const std::string& dataset) {

@@ -31,7 +31,7 @@ namespace {
 class KilledRun : public ::testing::Test {
  protected:
   static constexpr const char* kOptions =
-      " --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+      " --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
 
   void SetUp() override {
     const std::string pid_file = (out.path() / "pid").string();
@@ -98,7 +98,7 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
 
   // The same file under another seed's name: a checkpoint of another run.
   std::filesystem::rename(saved, out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed2.ckpt");
-  expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet "
+  expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet "
                                 "--no-cache --seeds 2 --resume " + out.path().string()),
                         "checkpoint of another run");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "cop-fscil__simtex-mini__seed2.json"));
@@ -106,7 +106,7 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
 
 TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
   TemporaryDirectory folder;
-  const std::string options = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --no-cache --quiet";
+  const std::string options = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --no-cache --quiet";
   const auto stopped = folder.path() / "stopped";
   const auto checkpoint = stopped / "checkpoints" / "cop-fscil__simtex-mini__seed1.ckpt";
   const std::string script = fmt::format(

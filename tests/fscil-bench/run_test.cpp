@@ -29,7 +29,7 @@ namespace {
 TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   TemporaryDirectory out;
   // Where git sees no repository at run time, a result still names the commit its binary was built from.
-  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 1,2 --threads 2 "
+  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --seeds 1,2 --threads 1 "
                                     "--quiet --no-cache --out " + out.path().string(),
                                     "GIT_DIR=/nonexistent");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -86,7 +86,7 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
 
 TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   TemporaryDirectory together, alone;
-  const std::string common = " --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out ";
+  const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out ";
   ASSERT_EQ(run_cli("--methods cop-fscil/cpi+pcqa,cop-fscil" + common + together.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli("--methods cop-fscil" + common + alone.path().string()).exit_code, 0);
   const auto file = std::filesystem::path("results") / "cop-fscil__simtex-mini__seed1.json";
@@ -101,7 +101,7 @@ TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
 TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodParameterMissesIt) {
   TemporaryDirectory cache, cold, warm, sweep_cell, other_lr, uncached, after_damage;
   const auto stages = cache.path() / "stages";
-  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --threads 2 --cache-dir " +
+  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --threads 1 --cache-dir " +
                              cache.path().string() + " --out ";
   const auto result = [](const TemporaryDirectory& out) { return out.path() / "results" / "prototype__simtex-mini__seed1.json"; };
   constexpr const char* kHit = "base session from the stage cache";
@@ -148,7 +148,7 @@ TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodPar
 
 TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {
   TemporaryDirectory out, test_out;
-  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
   const CommandResult run = run_cli(common + " --evaluate-on validation --out " + out.path().string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("### simtex-mini, validation split"), std::string::npos) << run.output;
@@ -168,7 +168,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
   EXPECT_EQ(row.rfind("cop-fscil,simtex-mini,validation,last,1,", 0), 0u) << row;
   // Validation-scored runs never stand beside the paper's test numbers or a test run.
   expect_one_error_line(run_cli("report --paper --results " + out.path().string()), "test-split numbers");
-  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache --out " +
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out " +
                     test_out.path().string())
                 .exit_code,
             0);
@@ -187,7 +187,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
 TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) {
   TemporaryDirectory first, second, other;
   // cop-fscil draws from every source: splits, shots, CutMix, episodes, probes, initialisation.
-  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
   ASSERT_EQ(run_cli(common + " --seeds 3 --out " + first.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --seeds 3 --out " + second.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --seeds 4 --out " + other.path().string()).exit_code, 0);
@@ -203,16 +203,16 @@ TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) 
 TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
   TemporaryDirectory out;
   const std::string common = " --dataset simtex-mini --profile smoke --quiet --no-cache --out " + out.path().string();
-  ASSERT_EQ(run_cli("--methods prototype --threads 2" + common).exit_code, 0);
+  ASSERT_EQ(run_cli("--methods prototype --threads 1" + common).exit_code, 0);
   const auto result = out.path() / "results" / "prototype__simtex-mini__seed1.json";
   std::ifstream in(result);
   const std::string written((std::istreambuf_iterator<char>(in)), {});
   ASSERT_NE(written.find("\"shot\": \"5\""), std::string::npos);
 
-  expect_one_error_line(run_cli("--methods prototype --threads 2 --seeds 2 --set shot=2" + common),
+  expect_one_error_line(run_cli("--methods prototype --threads 1 --seeds 2 --set shot=2" + common),
                         "holds a run that cannot share a table with this one (shot=5 against shot=2)");
-  expect_one_error_line(run_cli("--methods prototype --seeds 2 --threads 1" + common), "(threads 2 against 1)");
-  expect_one_error_line(run_cli("--methods prototype,prototype --threads 2" + common), "'prototype' is named twice");
+  expect_one_error_line(run_cli("--methods prototype --seeds 2 --threads 2" + common), "(threads 1 against 2)");
+  expect_one_error_line(run_cli("--methods prototype,prototype --threads 1" + common), "'prototype' is named twice");
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
   std::ifstream again(result);
   EXPECT_EQ(std::string((std::istreambuf_iterator<char>(again)), {}), written) << "an earlier result changed";
@@ -232,7 +232,7 @@ TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
 TEST(Cli, FeaturesOnDemandAndRecomputedActivationsGiveTheScoresOfTheDefaultRun) {
   TemporaryDirectory in_memory, on_demand, recomputed, limited;
   // pits-sc reads features by batch, the validation split and raw signals for its mixtures.
-  const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
   ASSERT_EQ(run_cli(common + " --features memory --out " + in_memory.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --features on-demand --out " + on_demand.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --set recompute=stages --out " + recomputed.path().string()).exit_code, 0);
@@ -259,7 +259,7 @@ TEST(Cli, FeaturesOnDemandAndRecomputedActivationsGiveTheScoresOfTheDefaultRun) 
 
 TEST(Cli, SaveModelKeepsEachRunsStateForPythonsTorchLoad) {
   TemporaryDirectory out;
-  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet "
+  const CommandResult run = run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet "
                                     "--no-cache --save-model --out " + out.path().string());
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const auto model = out.path() / "models" / "prototype__simtex-mini__seed1.pt";

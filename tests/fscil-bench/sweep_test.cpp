@@ -28,7 +28,7 @@ namespace {
 
 TEST(Cli, SweepRunsEveryCellApartAndTablesThemWithAColumnPerKey) {
   TemporaryDirectory out, plain;
-  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache";
+  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
   const CommandResult sweep = run_cli("sweep --grid shot=3,5" + common + " --out " + out.path().string());
   ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
   EXPECT_NE(sweep.output.find("| shot | method |"), std::string::npos) << sweep.output;
@@ -68,7 +68,7 @@ TEST(Cli, SweepRunsEveryCellApartAndTablesThemWithAColumnPerKey) {
 
 TEST(Cli, EpochsChosenOnTestAreLabelledInflatedAndNeverShareAnOutWithHonestRuns) {
   TemporaryDirectory out;
-  const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 2 --quiet --no-cache "
+  const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache "
                              "--out " + out.path().string();
   const CommandResult oracle = run_cli("--selection test-oracle" + common);
   ASSERT_EQ(oracle.exit_code, 0) << oracle.output;
@@ -95,7 +95,7 @@ TEST(Cli, ReproduceListsThePapersTablesAndWritesOneInItsLayoutWithItsFigures) {
     EXPECT_NE(("\n" + list.output).find(fmt::format("\n{} ", name)), std::string::npos) << name;
   }
   TemporaryDirectory out;
-  const CommandResult embedding = run_cli("reproduce embedding --dataset simtex-mini --profile smoke --threads 2 --quiet "
+  const CommandResult embedding = run_cli("reproduce embedding --dataset simtex-mini --profile smoke --threads 1 --quiet "
                                           "--no-cache --out " + out.path().string());
   ASSERT_EQ(embedding.exit_code, 0) << embedding.output;
   for (const char* file : {"embedding.md", "index.html", "embeddings/pits-sc__simtex-mini__seed1.h5",
