@@ -76,8 +76,14 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
   return train_epochs(parameters, cross_entropy, data, schedule, context, phase);
 }
 
-std::map<std::string, ParameterDefaults> pretraining_profiles() {
-  return {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}}, {"fast", {{"pretrain_epochs", "8"}, {"lr_step", "4"}}}};
+std::map<std::string, ParameterDefaults> pretraining_profiles(
+    const std::map<std::string, ParameterDefaults>& later_stages) {
+  std::map<std::string, ParameterDefaults> profiles = {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}},
+                                                       {"fast", {{"pretrain_epochs", "8"}, {"lr_step", "4"}}}};
+  for (const auto& [profile, defaults] : later_stages) {
+    profiles[profile].insert(profiles[profile].end(), defaults.begin(), defaults.end());
+  }
+  return profiles;
 }
 
 }  // namespace fscil

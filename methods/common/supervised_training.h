@@ -47,7 +47,9 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
                         const std::string& phase);
 
 // How the profiles shorten this pretraining (MethodEntry::profile_defaults): epochs, and the
-// learning-rate step with them so that the decay still happens; nothing else.
-std::map<std::string, ParameterDefaults> pretraining_profiles();
+// learning-rate step with them so that the decay still happens; nothing else. Then, per profile,
+// `later_stages`: how it shortens the stages a method trains after the pretraining.
+std::map<std::string, ParameterDefaults> pretraining_profiles(
+    const std::map<std::string, ParameterDefaults>& later_stages = {});
 
 }  // namespace fscil

@@ -346,11 +346,9 @@ MethodEntry orco_entry() {
   entry.base_epoch_keys = {"pretrain_epochs", "orco_base_epochs"};
   // The projector stage shortened as PITS-SC's second stage is (10 epochs: 2 in fast, 1 in smoke),
   // and in smoke its sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up).
-  entry.profile_defaults = pretraining_profiles();
-  auto& smoke = entry.profile_defaults["smoke"];
-  smoke.insert(smoke.end(), {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}});
-  auto& fast = entry.profile_defaults["fast"];
-  fast.insert(fast.end(), {{"orco_base_epochs", "2"}});
+  entry.profile_defaults = pretraining_profiles(
+      {{"smoke", {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}}},
+       {"fast", {{"orco_base_epochs", "2"}}}});
   entry.session_only_parameters = {"orco_session_epochs", "orco_session_lr",       "orco_session_batch",
                                    "orco_session_warmup", "orco_session_stop",     "orco_session_check",
                                    "orco_session_patience", "orco_novel_ce_weight", "orco_base_ce_weight",

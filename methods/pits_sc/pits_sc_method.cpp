@@ -225,11 +225,8 @@ MethodEntry pits_sc_entry() {
   entry.groups = {"ablation"};
   entry.base_epoch_keys = {"pretrain_epochs", "pit_epochs"};
   // Its pseudo-incremental stage and its sessions shortened as the pretraining is.
-  entry.profile_defaults = pretraining_profiles();
-  auto& smoke = entry.profile_defaults["smoke"];
-  smoke.insert(smoke.end(), {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}});
-  auto& fast = entry.profile_defaults["fast"];
-  fast.insert(fast.end(), {{"pit_epochs", "2"}});
+  entry.profile_defaults = pretraining_profiles(
+      {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});
   entry.sessions_keep_embedding = true;  // sessions fine-tune the classifier only
   entry.session_only_parameters = {"epochs_new", "lr_new", "lamda_proto"};
   return entry;
