@@ -13,6 +13,7 @@
 #include "datasets/readers/lmt108_adapter.h"
 #include "datasets/readers/scanned_recordings.h"
 #include "datasets/segment_cache.h"
+#include "datasets/sf_instruments.h"
 #include "datasets/simtex.h"
 #include "core/parameter_set.h"
 
@@ -72,6 +73,12 @@ const SimulatedDataset kSimulatedDatasets[] = {
     {"simtex-mini", "small simulated textures for tests: 20 classes, 5 channels, 1 kHz, 0.5 s, 30 per class",
      simtex_mini_config, "haptex", 0.5, {10, 5, 5, 3}},
 };
+
+// Built in and real: recorded instrument samples, rendered here (datasets/sf_instruments.h).
+constexpr const char* kSfInstruments = "sf-instruments";
+constexpr const char* kSfInstrumentsSummary =
+    "recorded instrument notes rendered from MuseScore General: 100 GM programs, 4 s at 16 kHz, NS-100's protocol; "
+    "a quarter of its clips (scale=0.25)";
 
 LogMelSettings with_mel_options(LogMelSettings settings, const ParameterSet& params) {
   settings.scale = parse_mel_scale(params.choice("mel_scale", "htk", {"htk", "slaney"}));
@@ -144,6 +151,27 @@ PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequ
                             [&] { return generate_simtex(config, request.threads); });
 }
 
+PreparedDataset build_sf_instruments(const DatasetRequest& request, const ParameterSet& params, std::ostream& log) {
+  SfInstrumentsConfig config;
+  config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1, ValidRange::at_least(0)));
+  config.scale = params.real("scale", config.scale, ValidRange::between(0.01, 1));
+  config.context_shift = parse_note_context_shift(params.choice("context_shift", "none", {"none", "pitch", "velocity"}));
+
+  DatasetDescription description;
+  description.name = kSfInstruments;
+  description.sample_rate = config.sample_rate;
+  description.channel_names = {"mono"};
+  description.channel_repeat = 3;  // as NS-100's: the ResNet sees the mono clip three times
+  for (const int program : sf_instrument_programs(config)) description.class_names.push_back(fmt::format("gm{:03d}", program));
+  for (int family = 0; family < 14; ++family) description.group_names.push_back(fmt::format("gm_family{:02d}", family));
+  const auto length = static_cast<std::int64_t>(config.seconds * config.sample_rate);
+  description.segment = {length, length, 1};  // one segment per clip, from its start
+  description.front_end = with_mel_options(log_mel_preset("ns100"), params);
+  description.sessions = {config.base_classes, 5, 5, 10};
+  description.source = fmt::format("{} digest={}", config.describe(), soundfont_digest(config.soundfont));
+  return prepare_with_cache(description, request, log, [&] { return render_sf_instruments(config, request.threads); });
+}
+
 PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& request, const ParameterSet& params,
                            std::ostream& log) {
   if (request.data_root.empty()) {
@@ -173,6 +201,7 @@ FeatureStorage parse_feature_storage(const std::string& text) {
 std::vector<CatalogEntry> dataset_catalog() {
   std::vector<CatalogEntry> entries;
   for (const auto& entry : kSimulatedDatasets) entries.push_back({entry.name, entry.summary, true});
+  entries.push_back({kSfInstruments, kSfInstrumentsSummary, false});
   for (const auto& entry : kRealDatasets) entries.push_back({entry.name, entry.summary, false});
   return entries;
 }
@@ -182,6 +211,7 @@ PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& r
   for (const auto& entry : kSimulatedDatasets) {
     if (name == entry.name) return build_simulated(entry, request, params, log);
   }
+  if (name == kSfInstruments) return build_sf_instruments(request, params, log);
   for (const auto& entry : kRealDatasets) {
     if (name == entry.name) return build_real(entry, request, params, log);
   }

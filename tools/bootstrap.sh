@@ -9,6 +9,7 @@ packages=(
   build-essential cmake git pkg-config ccache
   libtorch-dev libopenblas0-openmp
   libfftw3-dev libhdf5-dev libsndfile1-dev
+  libfluidsynth-dev musescore-general-soundfont  # sf-instruments: notes rendered from its SoundFont
   libfmt-dev libcli11-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   clang-14 libclang-rt-14-dev llvm-14  # tests/fuzz: libFuzzer and sanitizer runtimes, llvm-symbolizer
