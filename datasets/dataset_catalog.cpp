@@ -74,11 +74,23 @@ const SimulatedDataset kSimulatedDatasets[] = {
      simtex_mini_config, "haptex", 0.5, {10, 5, 5, 3}},
 };
 
-// Built in and real: recorded instrument samples, rendered here (datasets/sf_instruments.h).
-constexpr const char* kSfInstruments = "sf-instruments";
-constexpr const char* kSfInstrumentsSummary =
-    "recorded instrument notes rendered from MuseScore General: 100 GM programs, 4 s at 16 kHz, NS-100's protocol; "
-    "a quarter of its clips (scale=0.25)";
+// Built in and real: recorded instrument notes, rendered here (datasets/sf_instruments.h).
+struct RenderedDataset {
+  const char* name;
+  const char* summary;
+  int classes;
+  int base_classes;
+  double scale;  // the default
+  int sessions;  // including the base session
+  double seconds, hold_seconds;  // a clip, and how long its key is held
+};
+
+const RenderedDataset kRenderedDatasets[] = {
+    {"sf-instruments", "recorded instrument notes rendered from MuseScore General: 100 GM programs, 4 s at 16 kHz, "
+     "NS-100's protocol; a quarter of its clips (scale=0.25)", 100, 55, 0.25, 10, 4, 3},
+    {"sf-instruments-mini", "sf-instruments for tests: 20 GM programs, 1 s notes, 10 base, 2 x 5-way 5-shot, 20 "
+     "(base) or 15 (novel) clips per class (scale=0.05)", 20, 10, 0.05, 3, 1, 0.75},
+};
 
 LogMelSettings with_mel_options(LogMelSettings settings, const ParameterSet& params) {
   settings.scale = parse_mel_scale(params.choice("mel_scale", "htk", {"htk", "slaney"}));
@@ -151,14 +163,19 @@ PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequ
                             [&] { return generate_simtex(config, request.threads); });
 }
 
-PreparedDataset build_sf_instruments(const DatasetRequest& request, const ParameterSet& params, std::ostream& log) {
+PreparedDataset build_rendered(const RenderedDataset& entry, const DatasetRequest& request, const ParameterSet& params,
+                               std::ostream& log) {
   SfInstrumentsConfig config;
+  config.classes = entry.classes;
+  config.base_classes = entry.base_classes;
+  config.seconds = entry.seconds;
+  config.hold_seconds = entry.hold_seconds;
   config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1, ValidRange::at_least(0)));
-  config.scale = params.real("scale", config.scale, ValidRange::between(0.01, 1));
+  config.scale = params.real("scale", entry.scale, ValidRange::between(0.01, 1));
   config.context_shift = parse_note_context_shift(params.choice("context_shift", "none", {"none", "pitch", "velocity"}));
 
   DatasetDescription description;
-  description.name = kSfInstruments;
+  description.name = entry.name;
   description.sample_rate = config.sample_rate;
   description.channel_names = {"mono"};
   description.channel_repeat = 3;  // as NS-100's: the ResNet sees the mono clip three times
@@ -167,7 +184,7 @@ PreparedDataset build_sf_instruments(const DatasetRequest& request, const Parame
   const auto length = static_cast<std::int64_t>(config.seconds * config.sample_rate);
   description.segment = {length, length, 1};  // one segment per clip, from its start
   description.front_end = with_mel_options(log_mel_preset("ns100"), params);
-  description.sessions = {config.base_classes, 5, 5, 10};
+  description.sessions = {config.base_classes, 5, 5, entry.sessions};
   description.source = fmt::format("{} digest={}", config.describe(), soundfont_digest(config.soundfont));
   return prepare_with_cache(description, request, log, [&] { return render_sf_instruments(config, request.threads); });
 }
@@ -201,7 +218,7 @@ FeatureStorage parse_feature_storage(const std::string& text) {
 std::vector<CatalogEntry> dataset_catalog() {
   std::vector<CatalogEntry> entries;
   for (const auto& entry : kSimulatedDatasets) entries.push_back({entry.name, entry.summary, true});
-  entries.push_back({kSfInstruments, kSfInstrumentsSummary, false});
+  for (const auto& entry : kRenderedDatasets) entries.push_back({entry.name, entry.summary, false});
   for (const auto& entry : kRealDatasets) entries.push_back({entry.name, entry.summary, false});
   return entries;
 }
@@ -211,7 +228,9 @@ PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& r
   for (const auto& entry : kSimulatedDatasets) {
     if (name == entry.name) return build_simulated(entry, request, params, log);
   }
-  if (name == kSfInstruments) return build_sf_instruments(request, params, log);
+  for (const auto& entry : kRenderedDatasets) {
+    if (name == entry.name) return build_rendered(entry, request, params, log);
+  }
   for (const auto& entry : kRealDatasets) {
     if (name == entry.name) return build_real(entry, request, params, log);
   }
