@@ -171,7 +171,7 @@ PreparedDataset build_rendered(const RenderedDataset& entry, const DatasetReques
   config.seconds = entry.seconds;
   config.hold_seconds = entry.hold_seconds;
   config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1, ValidRange::at_least(0)));
-  config.scale = params.real("scale", entry.scale, ValidRange::between(0.01, 1));
+  config.scale = params.real("scale", entry.scale, ValidRange::between(0.05, 1));
   config.context_shift = parse_note_context_shift(params.choice("context_shift", "none", {"none", "pitch", "velocity"}));
 
   DatasetDescription description;
@@ -185,7 +185,7 @@ PreparedDataset build_rendered(const RenderedDataset& entry, const DatasetReques
   description.segment = {length, length, 1};  // one segment per clip, from its start
   description.front_end = with_mel_options(log_mel_preset("ns100"), params);
   description.sessions = {config.base_classes, 5, 5, entry.sessions};
-  description.source = fmt::format("{} digest={}", config.describe(), soundfont_digest(config.soundfont));
+  description.source = fmt::format("{} digest={}", config.describe(), soundfont_digest(config.soundfont, config.package));
   return prepare_with_cache(description, request, log, [&] { return render_sf_instruments(config, request.threads); });
 }
 

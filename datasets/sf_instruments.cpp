@@ -40,30 +40,31 @@ int scaled(int count, double scale, int least) {
   return std::max(least, static_cast<int>(std::lround(count * scale)));
 }
 
-// General MIDI's instrument families, 8 programs each.
-const char* const kFamilies[] = {"piano", "chromatic_percussion", "organ", "guitar", "bass", "strings", "ensemble",
-                                 "brass", "reed", "pipe", "synth_lead", "synth_pad", "synth_effects", "ethnic"};
+struct PitchRange {
+  int low, high;  // inclusive
+};
+
+// The pitches a clip may sound: under a pitch shift, open and held-out clips never share one.
+PitchRange pitch_range(const SfInstrumentsConfig& config, bool held_out) {
+  if (config.context_shift != NoteContextShift::pitch) return {kLowestPitch, kHighestPitch};
+  return held_out ? PitchRange{kHeldOutPitch, kHighestPitch} : PitchRange{kLowestPitch, kHeldOutPitch - 1};
+}
 
 SfClip draw_clip(const SfInstrumentsConfig& config, int class_index, int program, int number, SplitHint split,
                  bool held_out) {
   auto rng = generator(config.seed, Purpose::clip, static_cast<std::uint64_t>(class_index),
                        static_cast<std::uint64_t>(number));
-  int low = kLowestPitch, high = kHighestPitch, first_velocity = 0;
+  const PitchRange pitches = pitch_range(config, held_out);
+  int first_velocity = 0;
   int velocities = static_cast<int>(std::size(kVelocities));
-  if (config.context_shift == NoteContextShift::pitch) {
-    if (held_out) {
-      low = kHeldOutPitch;
-    } else {
-      high = kHeldOutPitch - 1;
-    }
-  } else if (config.context_shift == NoteContextShift::velocity) {
+  if (config.context_shift == NoteContextShift::velocity) {
     first_velocity = held_out ? 0 : kSoftVelocities;
     velocities = held_out ? kSoftVelocities : velocities - kSoftVelocities;
   }
   SfClip clip;
   clip.class_index = class_index;
   clip.program = program;
-  clip.pitch = static_cast<int>(uniform_int(rng, low, high));
+  clip.pitch = static_cast<int>(uniform_int(rng, pitches.low, pitches.high));
   clip.velocity = kVelocities[first_velocity + uniform_int(rng, 0, velocities - 1)];
   clip.split = split;
   clip.held_out = held_out;
@@ -72,14 +73,21 @@ SfClip draw_clip(const SfInstrumentsConfig& config, int class_index, int program
 
 Recording render_clip(const SfInstrumentsConfig& config, const SoundfontRenderer& renderer, const SfClip& clip,
                       int number) {
+  // A key outside the instrument's range sounds nothing in the font: the nearest octave that
+  // sounds, within the pitches the clip's context allows.
+  const PitchRange allowed = pitch_range(config, clip.held_out);
   NoteRequest note{clip.program, clip.pitch, clip.velocity, config.hold_seconds, config.seconds};
-  std::vector<float> samples = renderer.render(note);
-  // A key outside the instrument's range sounds nothing in the font: an octave lower, up to three times.
-  for (int lowered = 0; lowered < 3 && note.pitch - 12 >= 0; ++lowered) {
-    const bool silent = std::all_of(samples.begin(), samples.end(), [](float s) { return std::abs(s) < kSilence; });
-    if (!silent) break;
-    note.pitch -= 12;
+  std::vector<float> samples;
+  for (const int octaves : {0, -1, 1, -2, 2, -3, 3, -4, 4}) {
+    note.pitch = clip.pitch + 12 * octaves;
+    if (note.pitch < allowed.low || note.pitch > allowed.high) continue;
     samples = renderer.render(note);
+    if (std::any_of(samples.begin(), samples.end(), [](float s) { return std::abs(s) >= kSilence; })) break;
+    samples.clear();
+  }
+  if (samples.empty()) {
+    throw DatasetError(fmt::format("{}: program {} sounds at no octave of key {} within {}-{}",
+                                   config.soundfont.string(), clip.program, clip.pitch, allowed.low, allowed.high));
   }
   Recording recording;
   recording.id = fmt::format("gm{:03d}_{:04d}", clip.program, number);
@@ -101,7 +109,7 @@ NoteContextShift parse_note_context_shift(const std::string& text) {
   if (text == "none") return NoteContextShift::none;
   if (text == "pitch") return NoteContextShift::pitch;
   if (text == "velocity") return NoteContextShift::velocity;
-  throw DatasetError(fmt::format("context_shift '{}': expected none, pitch or velocity", text));
+  throw DatasetError(fmt::format("context_shift='{}': expected none, pitch or velocity", text));
 }
 
 std::string to_string(NoteContextShift shift) {
@@ -153,8 +161,9 @@ std::vector<SfClip> sf_instrument_clips(const SfInstrumentsConfig& config) {
     };
     // Under a shift the protocol splits the clips itself (protocols/session_schedule.cpp): base
     // training and validation from the open contexts, shots, scored validation and test from
-    // the held-out ones.
-    add(config.train_clips(y), SplitHint::train, false);
+    // the held-out ones, where a novel class's every clip is.
+    const bool novel = y >= config.base_classes;
+    add(config.train_clips(y), SplitHint::train, shifted && novel);
     add(config.validation_clips(), SplitHint::validation, shifted);
     add(config.test_clips(), SplitHint::test, shifted);
   }
@@ -188,7 +197,8 @@ std::vector<Recording> render_sf_instruments(const SfInstrumentsConfig& config, 
   return recordings;
 }
 
-std::string soundfont_digest(const std::filesystem::path& soundfont) {
+std::string soundfont_digest(const std::filesystem::path& soundfont, const std::string& package) {
+  require_soundfont(soundfont, package);
   std::ifstream in(soundfont, std::ios::binary);
   if (!in) throw DatasetError(fmt::format("{}: cannot read the SoundFont", soundfont.string()));
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

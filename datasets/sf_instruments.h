@@ -27,7 +27,8 @@ struct SfInstrumentsConfig {
   int base_classes = 55;
   // NS-100's clips per class, times `scale`: base classes 200 train, 100 validation, 100 test;
   // novel classes 100 train (5 become shots), 100 validation, 100 test (NS-100 lists none for
-  // validation of novel classes: the validation protocol needs them).
+  // validation of novel classes: the validation protocol needs them). At least 0.05, so that
+  // under a context shift a novel class's held-out clips still give test, shots and validation.
   double scale = 0.25;
   std::uint64_t seed = 1;
   NoteContextShift context_shift = NoteContextShift::none;
@@ -55,11 +56,12 @@ struct SfClip {
 std::vector<SfClip> sf_instrument_clips(const SfInstrumentsConfig& config);
 
 // Renders the clips, `threads` at a time; the same config gives the same samples to the bit
-// whatever the thread count. A note the instrument cannot play (silent in the font) is played an
-// octave lower, and its context says so.
+// whatever the thread count. A note the instrument cannot play (silent in the font) is played at
+// the nearest octave that sounds within the pitches its context allows, and its context says so.
+// Each worker decodes the whole font.
 std::vector<Recording> render_sf_instruments(const SfInstrumentsConfig& config, int threads = 0);
 
-// The font's bytes as a digest (core/stable_hash.h): part of the cache key.
-std::string soundfont_digest(const std::filesystem::path& soundfont);
+// The font's bytes as a digest (core/stable_hash.h): part of the cache key. require_soundfont() first.
+std::string soundfont_digest(const std::filesystem::path& soundfont, const std::string& package);
 
 }  // namespace fscil

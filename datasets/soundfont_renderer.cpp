@@ -12,15 +12,26 @@ namespace fscil {
 
 namespace {
 
-// libfluidsynth prints its warnings to stderr by default; a dataset's errors are ours to report.
+// libfluidsynth prints its messages to stderr by default; a dataset's errors are ours to report,
+// in one line.
 void silence_library_log() {
   static std::once_flag once;
   std::call_once(once, [] {
-    for (const int level : {FLUID_WARN, FLUID_INFO, FLUID_DBG}) fluid_set_log_function(level, nullptr, nullptr);
+    for (const int level : {FLUID_PANIC, FLUID_ERR, FLUID_WARN, FLUID_INFO, FLUID_DBG}) {
+      fluid_set_log_function(level, nullptr, nullptr);
+    }
   });
 }
 
 }  // namespace
+
+void require_soundfont(const std::filesystem::path& soundfont, const std::string& package) {
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(soundfont, error)) {
+    throw DatasetError(fmt::format("{}: no such SoundFont (Debian's package {} installs it; tools/bootstrap.sh "
+                                   "does)", soundfont.string(), package));
+  }
+}
 
 struct SoundfontRenderer::Loaded {
   fluid_settings_t* settings = nullptr;
@@ -36,11 +47,7 @@ struct SoundfontRenderer::Loaded {
 SoundfontRenderer::SoundfontRenderer(const std::filesystem::path& soundfont, double sample_rate,
                                      const std::string& package)
     : loaded_(std::make_unique<Loaded>()), sample_rate_(sample_rate) {
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(soundfont, error)) {
-    throw DatasetError(fmt::format("{}: no such SoundFont (Debian's package {} installs it; tools/bootstrap.sh "
-                                   "does)", soundfont.string(), package));
-  }
+  require_soundfont(soundfont, package);
   silence_library_log();
   Loaded& loaded = *loaded_;
   loaded.settings = new_fluid_settings();
@@ -67,10 +74,12 @@ std::string SoundfontRenderer::preset_name(int program) const {
 std::vector<float> SoundfontRenderer::render(const NoteRequest& note) const {
   const auto total = static_cast<int>(std::lround(note.total_seconds * sample_rate_));
   const auto held = static_cast<int>(std::lround(note.hold_seconds * sample_rate_));
+  std::vector<float> left(static_cast<std::size_t>(total)), right(static_cast<std::size_t>(total));
+  // Nothing below throws until the synthesizer is deleted. It borrows the owner's font and gives
+  // it back before it goes, so the font is freed once, with the owner.
   fluid_synth_t* synth = new_fluid_synth(loaded_->settings);
   if (synth == nullptr) throw DatasetError("libfluidsynth could not make a synthesizer");
   const int id = fluid_synth_add_sfont(synth, loaded_->font);
-  std::vector<float> left(static_cast<std::size_t>(total)), right(static_cast<std::size_t>(total));
   bool played = id != FLUID_FAILED && fluid_synth_program_select(synth, 0, id, 0, note.program) == FLUID_OK &&
                 fluid_synth_noteon(synth, 0, note.pitch, note.velocity) == FLUID_OK &&
                 fluid_synth_write_float(synth, held, left.data(), 0, 1, right.data(), 0, 1) == FLUID_OK;

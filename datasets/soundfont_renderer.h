@@ -16,6 +16,9 @@ struct NoteRequest {
   double total_seconds = 4;
 };
 
+// DatasetError naming the file and `package` (which installs it) when the SoundFont is missing.
+void require_soundfont(const std::filesystem::path& soundfont, const std::string& package);
+
 // A SoundFont loaded by libfluidsynth, rendering notes offline: no reverb or chorus, mono (the
 // mean of the synthesizer's two channels). Each note is rendered by a synthesizer made for it
 // alone, as libfluidsynth's synthesizers carry state from one note to the next (a note rendered
@@ -23,15 +26,15 @@ struct NoteRequest {
 // request alone. One renderer per thread: the loaded font is not shared between threads.
 class SoundfontRenderer {
  public:
-  // DatasetError naming the file (and `package`, which installs it) when it is missing, and
-  // naming the file when libfluidsynth cannot load it.
+  // require_soundfont(), then DatasetError naming the file when libfluidsynth cannot load it.
+  // Every worker holds its own decoded copy of the font (hundreds of MB for MuseScore General).
   SoundfontRenderer(const std::filesystem::path& soundfont, double sample_rate, const std::string& package);
   ~SoundfontRenderer();
   SoundfontRenderer(const SoundfontRenderer&) = delete;
   SoundfontRenderer& operator=(const SoundfontRenderer&) = delete;
 
   std::vector<float> render(const NoteRequest& note) const;
-  // The program's preset name in the font, e.g. "Acoustic Grand Piano"; empty when it has none.
+  // The program's preset name in the font, e.g. "Grand Piano"; empty when it has none.
   std::string preset_name(int program) const;
 
  private:
