@@ -180,7 +180,9 @@ PreparedDataset build_rendered(const RenderedDataset& entry, const DatasetReques
   description.channel_names = {"mono"};
   description.channel_repeat = 3;  // as NS-100's: the ResNet sees the mono clip three times
   for (const int program : sf_instrument_programs(config)) description.class_names.push_back(fmt::format("gm{:03d}", program));
-  for (int family = 0; family < 14; ++family) description.group_names.push_back(fmt::format("gm_family{:02d}", family));
+  for (int family = 0; family < kSfInstrumentFamilies; ++family) {
+    description.group_names.push_back(fmt::format("gm_family{:02d}", family));
+  }
   const auto length = static_cast<std::int64_t>(config.seconds * config.sample_rate);
   description.segment = {length, length, 1};  // one segment per clip, from its start
   description.front_end = with_mel_options(log_mel_preset("ns100"), params);

@@ -23,7 +23,7 @@ namespace fscil {
 
 namespace {
 
-constexpr int kMelodicPrograms = 112;  // 112-119 are percussive, 120-127 sound effects
+constexpr int kMelodicPrograms = 8 * kSfInstrumentFamilies;  // 112-119 are percussive, 120-127 sound effects
 constexpr int kLowestPitch = 36, kHighestPitch = 84;  // C2 to C6, inclusive
 constexpr int kHeldOutPitch = 72;  // pitch shift: base training sees notes below C5 only
 constexpr int kVelocities[] = {25, 50, 75, 100, 127};  // NSynth's

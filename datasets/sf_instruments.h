@@ -12,6 +12,9 @@ namespace fscil {
 // MIDI melodic programs of MuseScore General (Debian's musescore-general-soundfont), rendered by
 // libfluidsynth at 16 kHz, 4 s, in NS-100's shape and protocol (docs/datasets.md).
 
+// General MIDI's melodic families, 8 programs each (0-111): a recording's group is its program / 8.
+constexpr int kSfInstrumentFamilies = 14;
+
 // Which note contexts base training never sees: none; high notes; soft notes.
 enum class NoteContextShift { none, pitch, velocity };
 NoteContextShift parse_note_context_shift(const std::string& text);
