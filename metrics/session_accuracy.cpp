@@ -33,4 +33,15 @@ SessionAccuracy score_session(const std::vector<std::int64_t>& labels, const std
   return result;
 }
 
+CrossGroupErrors cross_group_errors(const std::vector<std::int64_t>& labels,
+                                    const std::vector<std::int64_t>& predictions, int base_classes) {
+  if (labels.size() != predictions.size()) throw std::invalid_argument("labels and predictions differ in length");
+  Tally base_as_novel, novel_as_base;
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    const bool label_is_base = labels[i] < base_classes, predicted_base = predictions[i] < base_classes;
+    (label_is_base ? base_as_novel : novel_as_base).add(label_is_base != predicted_base);
+  }
+  return {base_as_novel.percent(), novel_as_base.percent()};
+}
+
 }  // namespace fscil

@@ -19,4 +19,14 @@ struct SessionAccuracy {
 SessionAccuracy score_session(const std::vector<std::int64_t>& labels, const std::vector<std::int64_t>& predictions,
                               int base_classes, int current_first, int current_end);
 
+// Where the errors between the two groups go: the percentage of base-class samples predicted as a
+// novel class, and of novel-class samples predicted as a base class (0 for an empty group). High
+// base_as_novel with base accuracy falling is a bias toward new rows; low, confusion among the old.
+struct CrossGroupErrors {
+  double base_as_novel = 0;
+  double novel_as_base = 0;
+};
+CrossGroupErrors cross_group_errors(const std::vector<std::int64_t>& labels,
+                                    const std::vector<std::int64_t>& predictions, int base_classes);
+
 }  // namespace fscil

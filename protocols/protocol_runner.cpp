@@ -196,8 +196,11 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     }
     const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, torch::tensor(seen, torch::kLong)));
     if (keep_embeddings) keep_embeddings(session, seen_embeddings, labels);
-    outcome.accuracy = score_session(labels, to_vector<std::int64_t>(torch::cat(predictions)), plan.base_classes,
-                                     plan.first_class_of(session), plan.seen_after(session));
+    const auto predicted = to_vector<std::int64_t>(torch::cat(predictions));
+    outcome.accuracy = score_session(labels, predicted, plan.base_classes, plan.first_class_of(session), plan.seen_after(session));
+    const CrossGroupErrors crossed = cross_group_errors(labels, predicted, plan.base_classes);
+    outcome.diagnostics["scored_base_as_novel"] = crossed.base_as_novel;
+    if (session > 0) outcome.diagnostics["scored_novel_as_base"] = crossed.novel_as_base;
     if (!segment_contexts.empty()) {
       // Measured on unit-length embeddings: the cosine classifier only sees directions.
       const torch::Tensor all = torch::cat(embeddings);

@@ -76,6 +76,13 @@ TEST_F(PrototypeOnSimtexMini, LearnsFarAboveChanceAndRepeatsExactlyWithTheSameSe
   // Chance is 10% after the base session and 5% after the last.
   EXPECT_GT(first[0].accuracy.all, 30.0);
   EXPECT_GT(first[2].accuracy.novel, 15.0);
+  // The base session scores base rows only, so no base sample can go to a novel class; later, the
+  // errors that cross groups are a part of each group's errors.
+  EXPECT_EQ(first[0].diagnostics.at("scored_base_as_novel"), 0.0);
+  EXPECT_EQ(first[0].diagnostics.count("scored_novel_as_base"), 0u);
+  EXPECT_LE(first[2].diagnostics.at("scored_base_as_novel"), 100.0 - first[2].accuracy.base + 1e-9);
+  EXPECT_LE(first[2].diagnostics.at("scored_novel_as_base"), 100.0 - first[2].accuracy.novel + 1e-9);
+  EXPECT_GT(first[2].diagnostics.at("scored_base_as_novel") + first[2].diagnostics.at("scored_novel_as_base"), 0.0);
   const auto again = run(1);
   for (std::size_t s = 0; s < first.size(); ++s) EXPECT_EQ(first[s].accuracy.all, again[s].accuracy.all);
 }

@@ -89,5 +89,18 @@ TEST(SessionAccuracy, SplitsBaseNovelAndCurrentClasses) {
   EXPECT_EQ(accuracy.samples, 8);
 }
 
+TEST(SessionAccuracy, CrossGroupErrorsCountOnlyErrorsThatChangeGroup) {
+  // base classes 0..1: of 4 base samples one goes to novel class 3, one to base class 1 (not
+  // counted); of 4 novel samples two go to base class 0, one to novel class 2 (not counted)
+  const std::vector<std::int64_t> labels = {0, 0, 1, 1, 2, 2, 3, 3};
+  const std::vector<std::int64_t> predicted = {0, 3, 1, 0, 0, 3, 2, 0};
+  const CrossGroupErrors crossed = cross_group_errors(labels, predicted, 2);
+  EXPECT_DOUBLE_EQ(crossed.base_as_novel, 25.0);
+  EXPECT_DOUBLE_EQ(crossed.novel_as_base, 50.0);
+  const CrossGroupErrors base_only = cross_group_errors({0, 1}, {1, 0}, 2);
+  EXPECT_DOUBLE_EQ(base_only.base_as_novel, 0.0);
+  EXPECT_DOUBLE_EQ(base_only.novel_as_base, 0.0);
+}
+
 }  // namespace
 }  // namespace fscil
