@@ -83,6 +83,8 @@ struct RenderedDataset {
   double scale;  // the default
   int sessions;  // including the base session
   double seconds, hold_seconds;  // a clip, and how long its key is held
+  // NS-100's protocol and front end, so the methods run with NS-100's released configuration too.
+  const char* method_config = "ns100";
 };
 
 const RenderedDataset kRenderedDatasets[] = {
@@ -219,9 +221,9 @@ FeatureStorage parse_feature_storage(const std::string& text) {
 
 std::vector<CatalogEntry> dataset_catalog() {
   std::vector<CatalogEntry> entries;
-  for (const auto& entry : kSimulatedDatasets) entries.push_back({entry.name, entry.summary, true});
-  for (const auto& entry : kRenderedDatasets) entries.push_back({entry.name, entry.summary, false});
-  for (const auto& entry : kRealDatasets) entries.push_back({entry.name, entry.summary, false});
+  for (const auto& entry : kSimulatedDatasets) entries.push_back({entry.name, entry.summary, true, entry.name});
+  for (const auto& entry : kRenderedDatasets) entries.push_back({entry.name, entry.summary, false, entry.method_config});
+  for (const auto& entry : kRealDatasets) entries.push_back({entry.name, entry.summary, false, entry.name});
   return entries;
 }
 

@@ -15,6 +15,9 @@ struct CatalogEntry {
   std::string name;
   std::string summary;
   bool simulated = false;
+  // The released method configuration it runs with (configs/NAME.json, where one exists): its own
+  // name, or that of the real dataset whose protocol it follows (sf-instruments: ns100).
+  std::string method_config;
 };
 
 // Where log-Mel features live during a run. In memory they are computed once; on demand each batch

@@ -23,6 +23,13 @@ TEST(DatasetDefaults, TheReleasedConfigsAreDefaultsThatSetOverrides) {
   EXPECT_EQ(ns100.text("lr_new", ""), "0.01");
   EXPECT_EQ(ns100.text("p_cutmix", ""), "0.0");
   EXPECT_EQ(ns100.text("pit_alpha", ""), "3.0");
+  // The rendered NS-100 stand-ins run with NS-100's config, as the real set they stand in for.
+  for (const char* stand_in : {"sf-instruments", "sf-instruments-mini"}) {
+    ParameterSet rendered;
+    apply_dataset_defaults(stand_in, rendered);
+    EXPECT_EQ(rendered.text("pit_lr", ""), "0.1") << stand_in;
+    EXPECT_EQ(rendered.text("p_cutmix", ""), "0.0") << stand_in;
+  }
   ParameterSet simtex;
   apply_dataset_defaults("simtex", simtex);
   EXPECT_FALSE(simtex.contains("pretrain_epochs"));

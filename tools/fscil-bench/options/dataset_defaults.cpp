@@ -6,6 +6,7 @@
 
 #include "core/parameter_set.h"
 #include "core/error.h"
+#include "datasets/dataset_catalog.h"
 #include "tools/fscil-bench/options/config_file.h"
 #include "tools/fscil-bench/options/data_folder.h"
 
@@ -19,7 +20,11 @@ void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
                                "tree or its install prefix", folder.string()));
   }
   if (dataset.empty() || dataset.find_first_of("/.") != std::string::npos) return;
-  const auto file = folder / (dataset + ".json");
+  std::string config = dataset;
+  for (const auto& entry : dataset_catalog()) {
+    if (entry.name == dataset) config = entry.method_config;
+  }
+  const auto file = folder / (config + ".json");
   if (!std::filesystem::exists(file)) return;
   for (const auto& [key, value] : config_settings(file)) params.set_default(key, value);
 }
