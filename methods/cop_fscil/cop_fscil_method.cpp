@@ -298,6 +298,7 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
     return new_and_old_loss(classifier_, original, support.labels, old_means, old_classes, seen_classes_);
   });
   stored_means_ = torch::cat({stored_means_, new_means});
+  record_row_alignment(context, old_classes);
 }
 
 std::vector<MethodEntry> cop_fscil_entries() {

@@ -169,6 +169,16 @@ void PitsScMethod::report_validation(RunContext& context, const std::string& sta
   }
 }
 
+void PitsScMethod::record_row_alignment(RunContext& context, std::int64_t old_classes) const {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor cosine = torch::nn::functional::cosine_similarity(
+      classifier_->mu.narrow(0, 0, seen_classes_), stored_means_,
+      torch::nn::functional::CosineSimilarityFuncOptions().dim(1));
+  context.diagnostics["old_rows_cosine_to_means"] = cosine.narrow(0, 0, old_classes).mean().item<double>();
+  context.diagnostics["new_rows_cosine_to_means"] =
+      cosine.narrow(0, old_classes, seen_classes_ - old_classes).mean().item<double>();
+}
+
 void PitsScMethod::check_session_order(const SessionData& support) const {
   if (support.new_classes.front() != seen_classes_) {
     throw MethodError(fmt::format("session {} starts at class {}, expected {}", support.session,
@@ -176,8 +186,9 @@ void PitsScMethod::check_session_order(const SessionData& support) const {
   }
 }
 
-void PitsScMethod::learn_session(const SessionData& support, RunContext& /*context*/) {
+void PitsScMethod::learn_session(const SessionData& support, RunContext& context) {
   check_session_order(support);
+  const std::int64_t old_classes = seen_classes_;
   const torch::Tensor embeddings = embed_rows(support.features);  // encoder and bn0 frozen
   const torch::Tensor new_means = class_means(embeddings, support.labels, support.new_classes);
   classifier_->set_mu_rows(seen_classes_, new_means);
@@ -185,6 +196,7 @@ void PitsScMethod::learn_session(const SessionData& support, RunContext& /*conte
   finetune_session_rows(classifier_, embeddings, support.labels, stored_means_, seen_classes_,
                         {settings_.epochs_new, settings_.lr_new, settings_.lamda_proto});
   stored_means_ = torch::cat({stored_means_, new_means});
+  record_row_alignment(context, old_classes);
 }
 
 MethodState PitsScMethod::save_state() const {

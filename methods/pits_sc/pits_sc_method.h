@@ -55,6 +55,11 @@ class PitsScMethod : public Method {
   // Base validation accuracy into the run's diagnostics (`base_validation_after_<stage>`) and
   // the progress notes.
   void report_validation(RunContext& context, const std::string& stage);
+  // After a session's fine-tuning: how far the classifier rows turned from the class means they
+  // started at (the mean cosine of the `old_classes` rows seen before it, and of the new rows), in
+  // the diagnostics `old_rows_cosine_to_means` and `new_rows_cosine_to_means`. Rows turning away
+  // from their classes is the forgetting that fine-tuning every row on the new shots can cause.
+  void record_row_alignment(RunContext& context, std::int64_t old_classes) const;
   // The first new class must follow the seen ones.
   void check_session_order(const SessionData& support) const;
 

@@ -272,13 +272,16 @@ TEST(CopFscilSession, PspcMapsEveryProbeWithTheQOfItsOriginal) {
   }
 }
 
-TEST(CopFscilSession, RecordsPspcsEffectiveShots) {
+TEST(CopFscilSession, RecordsPspcsEffectiveShotsAndTheRowsAlignment) {
   auto trained = train("cop-fscil", tiny_params(0, 0));
   trained.method->learn_session(tiny_support(6), trained.context);
   ASSERT_EQ(trained.context.diagnostics.count("pspc_effective_shots"), 1u);
   const double shots = trained.context.diagnostics.at("pspc_effective_shots");
   EXPECT_GE(shots, 1.0);
   EXPECT_LE(shots, 5.0 + 1e-9);
+  // No fine-tuning step: the rows are still the (calibrated) means the session started them at.
+  EXPECT_NEAR(trained.context.diagnostics.at("old_rows_cosine_to_means"), 1.0, 1e-5);
+  EXPECT_NEAR(trained.context.diagnostics.at("new_rows_cosine_to_means"), 1.0, 1e-5);
 }
 
 TEST(RunningStatisticsGuard, UndoesTheBatchNormUpdatesOfATrainingForward) {

@@ -190,6 +190,9 @@ TEST_F(TinyPitsSc, SessionLeavesTheEncoderUnchangedAndSetsNewRowsToSupportMeans)
   EXPECT_TRUE(torch::allclose(mu[6], embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
   EXPECT_TRUE(torch::allclose(mu[7], embeddings.narrow(0, 5, 5).mean(0), 1e-5, 1e-6));
   EXPECT_EQ(method->classify(embeddings).size(1), 8);
+  // Rows that did not move still point at the class means they started from.
+  EXPECT_NEAR(context.diagnostics.at("old_rows_cosine_to_means"), 1.0, 1e-5);
+  EXPECT_NEAR(context.diagnostics.at("new_rows_cosine_to_means"), 1.0, 1e-5);
 }
 
 TEST_F(TinyPitsSc, FineTuningMovesSeenRowsThroughTheLossAndNeverUnseenOnes) {
@@ -202,6 +205,10 @@ TEST_F(TinyPitsSc, FineTuningMovesSeenRowsThroughTheLossAndNeverUnseenOnes) {
   EXPECT_FALSE(torch::equal(method->classifier()->sigma.detach().narrow(0, 0, 8), sigma_before.narrow(0, 0, 8)));
   EXPECT_TRUE(torch::equal(mu.narrow(0, 8, 2), mu_before.narrow(0, 8, 2)));  // classes 8, 9 not seen yet
   EXPECT_TRUE(torch::equal(method->classifier()->sigma.detach().narrow(0, 8, 2), sigma_before.narrow(0, 8, 2)));
+  // The moved rows turned away from the means they started at, and the diagnostic says so.
+  const double old_alignment = context.diagnostics.at("old_rows_cosine_to_means");
+  EXPECT_LT(old_alignment, 1.0 - 1e-6);
+  EXPECT_GT(old_alignment, 0.0);
 }
 
 // bn0's running statistics depend only on the batches it normalises. With CutMix after bn0 (the
