@@ -11,6 +11,22 @@ namespace fscil {
 // standard library. Each call's consumption of the engine depends only on the engine's state
 // (nothing is cached between calls). Bad arguments throw ProtocolError.
 
+// splitmix64's finaliser: spreads a 64-bit value over all bits.
+inline std::uint64_t splitmix64(std::uint64_t value) {
+  value += 0x9e3779b97f4a7c15ULL;
+  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
+  return value ^ (value >> 31);
+}
+
+// An engine of its own for each (purpose, a, b) under one seed, so a generated dataset's every
+// draw is fixed by the seed alone, whatever the order or thread that makes it. Purposes are the
+// caller's numbers; two datasets may reuse them, as their seeds never meet.
+inline std::mt19937_64 derived_generator(std::uint64_t seed, std::uint64_t purpose, std::uint64_t a = 0,
+                                         std::uint64_t b = 0) {
+  return std::mt19937_64(splitmix64(splitmix64(splitmix64(seed ^ purpose) + a) + b));
+}
+
 // Uniform in [a, b) from one draw: the top 53 bits of the engine's output scaled by 2^-53.
 double uniform_real(std::mt19937_64& generator, double a, double b);
 

@@ -16,7 +16,6 @@
 #include "core/random_draws.h"
 #include "core/seeded_shuffle.h"
 #include "core/stable_hash.h"
-#include "datasets/simtex_random.h"
 #include "datasets/soundfont_renderer.h"
 
 namespace fscil {
@@ -33,7 +32,7 @@ constexpr float kSilence = 1e-6f;
 enum Purpose : std::uint64_t { programs = 11, clip = 12 };
 
 std::mt19937_64 generator(std::uint64_t seed, Purpose purpose, std::uint64_t a = 0, std::uint64_t b = 0) {
-  return std::mt19937_64(simtex_random::mix(simtex_random::mix(simtex_random::mix(seed ^ purpose) + a) + b));
+  return derived_generator(seed, purpose, a, b);
 }
 
 int scaled(int count, double scale, int least) {

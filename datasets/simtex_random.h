@@ -6,20 +6,11 @@
 
 namespace fscil::simtex_random {
 
-// splitmix64: derives independent generator seeds for each (purpose, a, b), so every draw of the
-// simulator is fixed by the seed alone, whatever the order or thread that makes it.
-inline std::uint64_t mix(std::uint64_t value) {
-  value += 0x9e3779b97f4a7c15ULL;
-  value = (value ^ (value >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  value = (value ^ (value >> 27)) * 0x94d049bb133111ebULL;
-  return value ^ (value >> 31);
-}
-
 enum Purpose : std::uint64_t { family = 1, material = 2, device = 3, nominal_context = 4, recording_context = 5,
                                recording_signal = 6, operator_habit = 7 };
 
 inline std::mt19937_64 generator(std::uint64_t seed, Purpose purpose, std::uint64_t a, std::uint64_t b = 0) {
-  return std::mt19937_64(mix(mix(mix(seed ^ purpose) + a) + b));
+  return derived_generator(seed, purpose, a, b);
 }
 
 // The simulator's draws, fixed algorithms (core/random_draws.h) so a seed gives the same data
