@@ -1,6 +1,7 @@
 #pragma once
 #include <torch/torch.h>
 
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "methods/diverged_training.h"
 #include "methods/sample_rows.h"
 #include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
@@ -81,8 +83,14 @@ struct RunContext {
   Stopwatch session_clock;  // restarted by the runner when a session begins
 
   // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, shows
-  // it as progress, and throws StopRequested when a stop was asked (core/stop_request.h).
+  // it as progress, and throws StopRequested when a stop was asked (core/stop_request.h). A loss
+  // that is not finite throws MethodError naming the stage, the epoch and its values: a diverged
+  // training would otherwise score chance, exit 0 and hand its base to the stage cache.
   void log_epoch(const std::string& stage, int epoch, int epochs, std::map<std::string, double> values) {
+    if (const auto loss = values.find("loss"); loss != values.end() && !std::isfinite(loss->second)) {
+      throw MethodError(diverged_training(stage + " epoch " + std::to_string(epoch) + " of " + std::to_string(epochs),
+                                          values));
+    }
     values["seconds"] = session_clock.seconds();
     if (progress != nullptr) progress->epoch(stage, epoch, epochs, values["loss"]);
     training_log.push_back({stage, epoch, std::move(values)});

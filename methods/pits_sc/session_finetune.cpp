@@ -1,5 +1,12 @@
 #include "methods/pits_sc/session_finetune.h"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "methods/diverged_training.h"
+
 namespace fscil {
 
 namespace F = torch::nn::functional;
@@ -16,6 +23,10 @@ double finetune_classifier_rows(StochasticClassifier& classifier, const SessionF
     value.backward();
     optimizer.step();
     last = value.item<double>();
+    if (!std::isfinite(last)) {
+      throw MethodError(diverged_training(fmt::format("session fine-tuning step {} of {}", step + 1, settings.steps),
+                                          {{"loss", last}, {"lr", settings.learning_rate}}));
+    }
   }
   classifier->eval();
   return last;

@@ -146,6 +146,29 @@ TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodPar
   EXPECT_EQ(scores_in(result(after_damage)), trained);
 }
 
+// Issue 42, item 1: a loss that is not finite fails the run in one line that says where and with
+// what, keeps the runs finished before it, and leaves no base in the stage cache.
+TEST(Cli, ADivergedTrainingFailsTheRunAndKeepsNothingOfIt) {
+  TemporaryDirectory cache, out, hot;
+  const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --cache-dir " +
+                             cache.path().string();
+  const CommandResult diverged =
+      run_cli("--methods prototype,pits-sc" + common + " --set pit_lr=1e30 --out " + out.path().string());
+  expect_one_error_line(diverged, "pseudo-incremental epoch 1 of 1: training diverged (loss ");
+  EXPECT_NE(diverged.output.find("lr 1e+30"), std::string::npos) << diverged.output;
+  EXPECT_EQ(diverged.exit_code, 1);
+  // prototype finished before pits-sc began: its result and its base stay; pits-sc's do not exist.
+  EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "pits-sc__simtex-mini__seed1.json"));
+  EXPECT_EQ(files_in(cache.path() / "stages"), 1u);
+
+  const CommandResult too_hot = run_cli("--methods prototype" + common + " --set temperature=1e308 --out " +
+                                        hot.path().string());
+  expect_one_error_line(too_hot, "epoch 1 of 3: training diverged (loss nan");
+  EXPECT_FALSE(std::filesystem::exists(hot.path() / "results" / "prototype__simtex-mini__seed1.json"));
+  EXPECT_EQ(files_in(cache.path() / "stages"), 1u);
+}
+
 TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {
   TemporaryDirectory out, test_out;
   const std::string common = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache";
