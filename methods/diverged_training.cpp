@@ -12,8 +12,8 @@ std::string diverged_training(const std::string& what, const std::map<std::strin
   for (const auto& [name, value] : values) {
     if (name != "seconds" && name != "loss") logged.push_back(fmt::format("{} {}", name, value));
   }
-  return fmt::format("{}: training diverged ({}); nothing of this run is kept: lower the learning rate or the "
-                     "temperature (--set)", what, fmt::join(logged, ", "));
+  return fmt::format("{}: training diverged ({}); the run writes no result: lower the learning rate or the temperature "
+                     "(--set)", what, fmt::join(logged, ", "));
 }
 
 }  // namespace fscil
