@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "datasets/finite_values.h"
 #include "datasets/log_mel_extractor.h"
 #include "datasets/readers/audio_adapters.h"
 #include "datasets/readers/folder_adapter.h"
@@ -108,6 +109,20 @@ bool keeps_features_in_memory(const SegmentSet& segments, const LogMelExtractor&
   return bytes <= kInMemoryFeatureLimitBytes;
 }
 
+// A simulator or renderer driven past its range makes NaN or infinite samples: say so with its
+// knobs before anything is cached (a cached file would fail every later run the same way).
+void check_finite(const SegmentSet& segments, const DatasetDescription& description) {
+  const FloatArray& signals = segments.signals;
+  const std::int64_t i = first_non_finite(signals.values.data(), signals.size());
+  if (i < 0) return;
+  const std::int64_t row = i / signals.row_size();
+  throw DatasetError(fmt::format("dataset '{}': recording '{}' has a non-finite sample ({}) as prepared from {}; "
+                                 "finite signals expected: a data knob is out of its range; nothing was cached",
+                                 description.name,
+                                 segments.recording_ids[static_cast<std::size_t>(segments.recording_index[row])],
+                                 signals.values[i], description.source));
+}
+
 // Loads the segments of `description` from the cache, or makes the recordings, cuts them and
 // stores the segments (only when every step succeeded); then computes the features unless
 // they are to be computed on demand.
@@ -133,6 +148,7 @@ PreparedDataset prepare_with_cache(const DatasetDescription& description, const 
     dataset.segments = std::move(*cached);
   } else {
     dataset.segments = segment_recordings(make_recordings(), description.segment);
+    check_finite(dataset.segments, description);
     if (!request.cache_dir.empty()) cache.store(description, dataset.segments);
   }
   if (keeps_features_in_memory(dataset.segments, extractor, request.features)) {
@@ -147,7 +163,10 @@ PreparedDataset build_simulated(const SimulatedDataset& entry, const DatasetRequ
                                 const ParameterSet& params, std::ostream& log) {
   SimtexConfig config = entry.config();
   config.seed = static_cast<std::uint64_t>(params.integer("data_seed", 1, ValidRange::at_least(0)));
-  config.context_strength = params.real("context_strength", config.context_strength, ValidRange::at_least(0));
+  // At 5 a recording's force spreads by e^{1.0 ε} and its direction by 75° per standard deviation,
+  // and every recording has switched operator and device (p = min(1, 0.3 s)): past it the
+  // contexts stop being ones a finger or a probe applies.
+  config.context_strength = params.real("context_strength", config.context_strength, ValidRange::between(0, 5));
   config.context_shift = parse_context_shift(params.choice("context_shift", "none", {"none", "device", "speed"}));
 
   DatasetDescription description;

@@ -1,0 +1,10 @@
+#pragma once
+#include <cstdint>
+
+namespace fscil {
+
+// The index of the first NaN or infinite value among `count` floats, or -1 when all are finite.
+// The common all-finite case is one branch-free, vectorised pass.
+std::int64_t first_non_finite(const float* values, std::int64_t count);
+
+}  // namespace fscil
