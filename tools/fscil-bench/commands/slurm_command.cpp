@@ -19,6 +19,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// The #SBATCH options the array script computes from the command (its cells, their threads, their
+// logs, how a time limit stops them): an --sbatch-arg may not set them over.
+constexpr const char* kComputedSbatchOptions[] = {"array", "cpus-per-task", "output", "open-mode",
+                                                  "signal", "requeue", "job-name"};
+
 // Every value that reaches an #SBATCH line, checked as what it is, so neither sbatch nor bash can
 // read it as something else (a newline would be a command, a space splits sbatch's value).
 void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
@@ -33,9 +38,17 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
                 "a Slurm time limit: MINUTES, [DAYS-]HOURS:MINUTES:SECONDS, DAYS-HOURS or UNLIMITED");
   refuse_unless(slurm.mem, R"(\d+[KMGTkmgt]?)", "--mem", "a Slurm memory size: a whole number with K, M, G or T, e.g. 8G");
   for (const auto& argument : slurm.sbatch_arguments) {
-    if (argument.rfind("--", 0) != 0 || argument.find_first_of("\n\r") != std::string::npos) {
-      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, e.g. --sbatch-arg=--account=abc",
-                                 shell_command({argument})));
+    if (argument.rfind("--", 0) != 0 || argument.find_first_of(" \t\n\r\v\f") != std::string::npos) {
+      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, without blanks, e.g. "
+                                 "--sbatch-arg=--account=abc", shell_command({argument})));
+    }
+    // sbatch takes any unambiguous prefix of a long option (--arr for --array), so a prefix is refused too.
+    const std::string name = argument.substr(2, argument.find('=') - 2);
+    for (const char* computed : kComputedSbatchOptions) {
+      if (!name.empty() && std::string(computed).rfind(name, 0) == 0) {
+        throw CliError(fmt::format("--sbatch-arg {}: --{} is fscil-bench's to set (the cells, their threads and logs); "
+                                   "expected another sbatch option", shell_command({argument}), computed));
+      }
     }
   }
   // sbatch splits an #SBATCH value at blanks and expands % in --output; a shell quote cannot help there.
