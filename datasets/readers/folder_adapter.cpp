@@ -1,6 +1,7 @@
 #include "datasets/readers/folder_adapter.h"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cmath>
@@ -10,6 +11,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/stable_hash.h"
+#include "core/text_file.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "core/shown_text.h"
@@ -189,6 +192,11 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
   std::stringstream items(field);
   std::string item;
   while (std::getline(items, item, ';')) {
+    const fs::path relative = fs::path(item).lexically_normal();
+    if (relative.is_absolute() || (!relative.empty() && *relative.begin() == "..")) {
+      throw DatasetError(fmt::format("{}: file '{}' is outside the dataset folder; expected a path relative to {} and "
+                                     "inside it", where, shown_text(item), root.string()));
+    }
     const fs::path file = root / item;
     if (!names_a_regular_file(file)) {
       throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
@@ -204,6 +212,61 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
                                    where, shown_text(field), channels));
   }
   return files;
+}
+
+// A file as the file system knows it: two names (a hard link, a symbolic link) are one file.
+using FileIdentity = std::pair<dev_t, ino_t>;
+
+FileIdentity identity_of(const fs::path& file) {
+  struct stat status {};
+  if (::stat(file.c_str(), &status) != 0) throw DatasetError(fmt::format("{}: cannot be read", file.string()));
+  return {status.st_dev, status.st_ino};
+}
+
+// Where the manifest listed a file.
+struct ListedFile {
+  fs::path path;
+  int line;
+  std::string recording;
+};
+
+// Whether two recordings hold the same bytes, file by file.
+bool same_bytes(const RecordingSource& a, const RecordingSource& b) {
+  for (std::size_t f = 0; f < a.files.size(); ++f) {
+    if (read_text_file(a.files[f]) != read_text_file(b.files[f])) return false;
+  }
+  return true;
+}
+
+// A byte-identical copy of a recording under another name would put one signal on both sides of a
+// split. Only recordings whose files have equal sizes can be equal, so only those are read. One
+// equal channel file is no copy (a sensor that was off gives the same file every time).
+void refuse_copies(const std::vector<RecordingSource>& recordings, const std::map<std::string, int>& line_of_recording,
+                   const fs::path& manifest) {
+  std::map<std::vector<std::uintmax_t>, std::vector<const RecordingSource*>> of_sizes;
+  for (const auto& recording : recordings) {
+    std::vector<std::uintmax_t> sizes;
+    for (const auto& file : recording.files) sizes.push_back(fs::file_size(file));
+    of_sizes[sizes].push_back(&recording);
+  }
+  for (const auto& [sizes, same_sizes] : of_sizes) {
+    if (same_sizes.size() < 2) continue;
+    std::map<std::string, std::vector<const RecordingSource*>> by_digest;
+    for (const RecordingSource* recording : same_sizes) {  // in manifest order
+      std::string digests;
+      for (const auto& file : recording->files) digests += stable_hash(read_text_file(file));
+      auto& earlier = by_digest[digests];
+      for (const RecordingSource* other : earlier) {
+        if (!same_bytes(*recording, *other)) continue;
+        throw DatasetError(fmt::format("{}:{}: recording '{}' ({}) has the same bytes as recording '{}' (line {}, {}); "
+                                       "a copy would put one signal on both sides of a split: list each recording once",
+                                       manifest.string(), line_of_recording.at(recording->id), recording->id,
+                                       recording->files.front().string(), other->id, line_of_recording.at(other->id),
+                                       other->files.front().string()));
+      }
+      earlier.push_back(recording);
+    }
+  }
 }
 
 SignalData read_folder_recording(const RecordingSource& source, const std::vector<std::string>& channels) {
@@ -249,7 +312,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
                     group_column = manifest.column("group"), recording_column = manifest.column("recording");
   const bool has_split = manifest.has_column("split"), has_context = manifest.has_column("context");
   std::map<std::string, int> class_of, group_of, line_of_recording;
-  std::map<fs::path, std::pair<int, std::string>> listing_of_file;  // line and recording that listed it
+  std::map<FileIdentity, ListedFile> listing_of_file;
   for (std::size_t r = 0; r < manifest.rows.size(); ++r) {
     const auto& row = manifest.rows[r];
     const std::string where = fmt::format("{}:{}", manifest_path.string(), manifest.line_of_row[r]);
@@ -271,17 +334,20 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
     if (has_context) source.context = parse_context(row[manifest.column("context")], where);
     source.files = files_of(row[file_column], root, d.channel_names.size(), where);
     // A file under two recordings (or classes, or splits) would put the same signal on both sides
-    // of a split.
+    // of a split: under two names, a symbolic link or a hard link it is still one file.
     for (const auto& file : source.files) {
-      const auto [listed, first] =
-          listing_of_file.emplace(fs::weakly_canonical(file), std::make_pair(manifest.line_of_row[r], source.id));
+      const auto [listed, first] = listing_of_file.emplace(identity_of(file), ListedFile{file, manifest.line_of_row[r], source.id});
       if (!first) {
-        throw DatasetError(fmt::format("{}: file {} already listed on line {} (recording '{}'); a file belongs to one "
-                                       "recording", where, file.string(), listed->second.first, listed->second.second));
+        throw DatasetError(fmt::format("{}: file {} already listed on line {} (recording '{}'{}); a file belongs to one "
+                                       "recording", where, file.string(), listed->second.line, listed->second.recording,
+                                       fs::weakly_canonical(file) == fs::weakly_canonical(listed->second.path)
+                                           ? ""
+                                           : ", as " + listed->second.path.string() + ", a link to the same file"));
       }
     }
     scan.recordings.push_back(std::move(source));
   }
+  refuse_copies(scan.recordings, line_of_recording, manifest_path);
   if (scan.recordings.empty()) {
     throw DatasetError(fmt::format("{}: no recordings, expected a row per recording", manifest_path.string()));
   }

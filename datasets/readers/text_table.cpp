@@ -17,6 +17,13 @@ namespace {
 
 std::ifstream open_or_throw(const std::filesystem::path& path) {
   if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
+  std::error_code unknown;
+  const auto bytes = std::filesystem::file_size(path, unknown);
+  if (!unknown && bytes > kMaxTextFileBytes) {
+    throw DatasetError(fmt::format("{}: {:.1f} GiB of text, expected at most {} GiB per file (an hour of three "
+                                   "channels at 10 kHz takes about 1 GiB); split the recording into several files",
+                                   path.string(), static_cast<double>(bytes) / (1 << 30), kMaxTextFileBytes >> 30));
+  }
   std::ifstream in(path);
   if (!in) throw DatasetError(fmt::format("{}: cannot be opened for reading", path.string()));
   return in;
@@ -101,20 +108,47 @@ SignalData read_single_column(const std::filesystem::path& path) {
 }
 
 SignalData read_signal_csv(const std::filesystem::path& path, const std::vector<std::string>& channels) {
-  const TextTable table = read_text_table(path);
+  // Streamed line by line into floats: a table of text fields first took four times the file.
+  std::ifstream in = open_or_throw(path);
+  TextTable header_only;
+  header_only.path = path;
   std::vector<std::size_t> columns;
-  for (const auto& name : channels) columns.push_back(table.column(name));
-  if (table.rows.empty()) throw DatasetError(fmt::format("{}: a header but no samples", path.string()));
-
+  std::vector<std::vector<float>> samples(channels.size());
+  std::string line;
+  int line_number = 0;
+  while (next_line(in, line, line_number)) {
+    if (blank(line)) continue;
+    const auto fields = csv_fields(line);
+    if (header_only.header.empty()) {
+      header_only.header = fields;
+      for (const auto& name : channels) columns.push_back(header_only.column(name));
+      continue;
+    }
+    if (fields.size() != header_only.header.size()) {
+      throw DatasetError(fmt::format("{}:{}: {} fields, expected {} like the header ({})", path.string(), line_number,
+                                     fields.size(), header_only.header.size(),
+                                     shown_text(fmt::format("{}", fmt::join(header_only.header, ",")))));
+    }
+    for (std::size_t k = 0; k < columns.size(); ++k) {
+      const std::string& field = fields[columns[k]];
+      const auto value = parse_number<float>(field);
+      if (!value || !std::isfinite(*value)) {  // says what is wrong, and where
+        parse_finite_float(field, fmt::format("{}:{} column {}", path.string(), line_number, channels[k]));
+      }
+      samples[k].push_back(*value);
+    }
+  }
+  if (header_only.header.empty()) throw DatasetError(fmt::format("{}: empty file, expected a header row", path.string()));
+  if (samples.empty() || samples.front().empty()) {
+    throw DatasetError(fmt::format("{}: a header but no samples", path.string()));
+  }
   SignalData signal;
   signal.channels = static_cast<std::int64_t>(channels.size());
-  signal.length = static_cast<std::int64_t>(table.rows.size());
-  signal.values.resize(static_cast<std::size_t>(signal.channels * signal.length));
-  for (std::size_t r = 0; r < table.rows.size(); ++r) {
-    for (std::size_t k = 0; k < columns.size(); ++k) {
-      const std::string where = fmt::format("{}:{} column {}", path.string(), table.line_of_row[r], channels[k]);
-      signal.values[k * table.rows.size() + r] = parse_finite_float(table.rows[r][columns[k]], where);
-    }
+  signal.length = static_cast<std::int64_t>(samples.front().size());
+  signal.values.reserve(static_cast<std::size_t>(signal.channels * signal.length));
+  for (auto& channel : samples) {
+    signal.values.insert(signal.values.end(), channel.begin(), channel.end());
+    std::vector<float>().swap(channel);
   }
   return signal;
 }

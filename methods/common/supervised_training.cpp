@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/seeded_shuffle.h"
+#include "core/stop_request.h"
 
 namespace fscil {
 
@@ -52,6 +53,8 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
+      // A stop is honoured within an epoch too: on more threads than cores one epoch can take minutes.
+      stop_if_requested();
       loss_sum += loss.item<double>();
       ++batches;
     }

@@ -14,6 +14,7 @@
 #include "methods/orco/pseudo_targets.h"
 #include "core/random_draws.h"
 #include "core/seeded_shuffle.h"
+#include "core/stop_request.h"
 
 namespace fscil {
 
@@ -193,6 +194,7 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
+      stop_if_requested();
       loss_sum += loss.item<double>();
       ++batches;
     }

@@ -15,6 +15,7 @@
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
 #include "core/random_draws.h"
+#include "core/stop_request.h"
 
 namespace fscil {
 
@@ -136,6 +137,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
+      stop_if_requested();
       means.add(parts);
       epoch_means.add(parts);
       loss_sum += loss.item<double>();

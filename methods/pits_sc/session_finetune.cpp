@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "methods/diverged_training.h"
+#include "core/stop_request.h"
 
 namespace fscil {
 
@@ -22,6 +23,7 @@ double finetune_classifier_rows(StochasticClassifier& classifier, const SessionF
     optimizer.zero_grad();
     value.backward();
     optimizer.step();
+    stop_if_requested();
     last = value.item<double>();
     if (!std::isfinite(last)) {
       throw MethodError(diverged_training(fmt::format("session fine-tuning step {} of {}", step + 1, settings.steps),

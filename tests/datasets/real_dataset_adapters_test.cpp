@@ -89,7 +89,8 @@ TEST(FolderAdapter, ReadsContextsSplitsAndOneTxtPerChannel) {
       const std::string stem = fmt::format("c{}r{}", c, r);
       std::string force, accel;
       for (int t = 0; t < 500; ++t) {
-        force += fmt::format("{}\n", c + 0.001 * t);
+        force += fmt::format("{}\n", c + 0.001 * t + 0.1 * r);  // each recording its own signal, one
+        // channel the same in all
         accel += fmt::format("{}\n", -c - 0.001 * t);
       }
       write_text(root.path() / (stem + "_force.txt"), force);

@@ -177,6 +177,30 @@ TEST_F(HaptexManifestErrors, OneFileUnderTwoRecordingsOrClassesWhateverItsSpelli
                       " already listed on line 6 (recording 'fabric01_rec0')");
 }
 
+TEST_F(HaptexManifestErrors, LeakageACopyOrALinkCouldHideIsRefused) {
+  const std::string root_text = root.path().string();
+  // A hard link of one recording's file under another recording's name.
+  fs::remove(recording(1, 2));
+  fs::create_hard_link(recording(1, 1), recording(1, 2));
+  EXPECT_MENTIONS(load_error("haptex", root.path()),
+                  "manifest.csv:8: file " + recording(1, 2).string() + " already listed on line 7 (recording "
+                  "'fabric01_rec1', as " + recording(1, 1).string() + ", a link to the same file)");
+  // A byte-identical copy.
+  fs::remove(recording(1, 2));
+  fs::copy_file(recording(1, 1), recording(1, 2));
+  EXPECT_MENTIONS(load_error("haptex", root.path()),
+                  "manifest.csv:8: recording 'fabric01_rec2' (" + recording(1, 2).string() +
+                      ") has the same bytes as recording 'fabric01_rec1' (line 7, " + recording(1, 1).string() + ")");
+  // Paths out of the dataset folder, relative or absolute.
+  replace_in(manifest(), "recordings/fabric01_2.csv,", "../other/fabric01_2.csv,");
+  EXPECT_MENTIONS(load_error("haptex", root.path()),
+                  "manifest.csv:8: file '../other/fabric01_2.csv' is outside the dataset folder");
+  replace_in(manifest(), "../other/fabric01_2.csv,", "recordings/../../x.csv,");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "file 'recordings/../../x.csv' is outside the dataset folder");
+  replace_in(manifest(), "recordings/../../x.csv,", recording(1, 2).string() + ",");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "is outside the dataset folder; expected a path relative to");
+}
+
 TEST_F(HaptexManifestErrors, DuplicateRecordingIds) {
   replace_in(manifest(), "fabric01_rec2\n", "fabric01_rec1\n");
   EXPECT_MENTIONS(load_error("haptex", root.path()),
@@ -198,6 +222,12 @@ TEST_F(HaptexManifestErrors, NonNumericAndNanValuesNameLineAndColumn) {
   EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric00_0.csv:2 column velocity: 'fast' is not a number");
   replace_in(recording(0, 0), "fast", "NaN");
   EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric00_0.csv:2 column velocity: NaN found");
+}
+
+TEST_F(HaptexManifestErrors, ARecordingPastTheTextSizeLimitIsRefusedBeforeItIsRead) {
+  // A sparse file: 1 GiB and one byte of text on a disk that keeps none of it.
+  fs::resize_file(recording(2, 1), kMaxTextFileBytes + 1);
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: 1.0 GiB of text, expected at most 1 GiB per file");
 }
 
 TEST_F(HaptexManifestErrors, UnknownSplitAndMalformedContext) {

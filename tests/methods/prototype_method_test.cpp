@@ -2,14 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <sstream>
 
+#include "core/stop_request.h"
 #include "datasets/dataset_catalog.h"
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
+#include "methods/common/supervised_training.h"
 #include "methods/method_registry.h"
 #include "protocols/profiles.h"
 #include "protocols/protocol_runner.h"
+#include "tests/methods/tiny_base_session.h"
 
 namespace fscil {
 namespace {
@@ -92,6 +96,27 @@ TEST(MethodRegistry, ResolvesAllAndRejectsUnknownNames) {
   EXPECT_EQ(resolve_method_names("prototype"), (std::vector<std::string>{"prototype"}));
   EXPECT_THROW(resolve_method_names("prototype,nosuch"), MethodError);
   EXPECT_THROW(create_method("nosuch", ParameterSet()), MethodError);
+}
+
+// On more threads than cores one epoch can take minutes: SIGTERM must not wait for its end.
+TEST(SupervisedTraining, AStopAskedDuringAnEpochIsHonouredAfterTheStepNotAtTheEpochsEnd) {
+  const SessionData base = tiny_base();  // 150 samples: 15 batches of 10
+  RunContext context = tiny_context(1);
+  const torch::Tensor weight = torch::zeros({1}, torch::requires_grad());
+  SupervisedSchedule schedule;
+  schedule.epochs = 1;
+  schedule.batch_size = 10;
+  int batches = 0;
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor&) {
+    if (++batches == 2) std::raise(SIGTERM);
+    return (weight * features.mean()).sum();
+  };
+  install_stop_handlers();
+  EXPECT_THROW(train_epochs({weight}, loss, base, schedule, context, "pretraining"), StopRequested);
+  clear_stop_request();
+  std::signal(SIGTERM, SIG_DFL);
+  EXPECT_EQ(batches, 2);
+  EXPECT_TRUE(context.training_log.empty());  // the epoch never finished
 }
 
 }  // namespace

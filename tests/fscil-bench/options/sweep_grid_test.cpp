@@ -73,5 +73,23 @@ TEST(SweepGrid, CellsAreEveryCombinationWithTheFirstAxisSlowest) {
   EXPECT_EQ(grid_cells(parse_grid({"a=1", "b=2", "c=3,4"})).size(), 2u);
 }
 
+TEST(SweepGrid, RefusesAGridOfMoreCellsThanASweepTakesBeforeMakingAnyCell) {
+  const auto axis = [](const std::string& key, int values) {
+    std::string text = key + "=0";
+    for (int v = 1; v < values; ++v) text += "," + std::to_string(v);
+    return text;
+  };
+  EXPECT_EQ(parse_grid({axis("a", 100), axis("b", 100)}).size(), 2u);  // 10 000 cells: the most
+  try {
+    parse_grid({axis("a", 100), axis("b", 100), axis("c", 2)});
+    FAIL() << "20 000 cells accepted";
+  } catch (const CliError& error) {
+    EXPECT_STREQ(error.what(), "--grid: 20000 cells (100 x 100 x 2) are more than the 10000 a sweep takes; split it "
+                               "into sweeps of fewer values");
+  }
+  // 4.1e9 cells, as once filled 19.7 GB: refused as fast as any other typo.
+  EXPECT_THROW(parse_grid({axis("a", 300), axis("b", 300), axis("c", 300), axis("d", 152)}), CliError);
+}
+
 }  // namespace
 }  // namespace fscil

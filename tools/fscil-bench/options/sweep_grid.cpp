@@ -40,6 +40,17 @@ std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts) {
     axes.push_back(std::move(axis));
   }
   if (axes.empty()) throw CliError("sweep: expected at least one --grid key=value1,value2,...");
+  // Counted before any cell is made: a grid of 4e9 cells once filled memory before it said anything.
+  double cells = 1;
+  std::string sizes;
+  for (const auto& axis : axes) {
+    cells *= static_cast<double>(axis.values.size());
+    sizes += fmt::format("{}{}", sizes.empty() ? "" : " x ", axis.values.size());
+  }
+  if (cells > kMaxGridCells) {
+    throw CliError(fmt::format("--grid: {} cells ({}) are more than the {} a sweep takes; split it into sweeps "
+                               "of fewer values", cells, sizes, kMaxGridCells));
+  }
   return axes;
 }
 

@@ -11,8 +11,12 @@ struct GridAxis {
   std::vector<std::string> values;
 };
 
+// The most cells one sweep takes: at a minute a cell (smoke scale) a week of work; more is a typo.
+constexpr int kMaxGridCells = 10000;
+
 // "key=v1,v2,..." per --grid; throws CliError naming the text on a missing '=', an empty or
-// repeated value, a key given twice, or characters other than letters, digits, '_', '.', '-'.
+// repeated value, a key given twice, characters other than letters, digits, '_', '.', '-', or
+// more than kMaxGridCells cells in all.
 std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts);
 
 // Every combination of one value per axis (the first axis varies slowest), each as key -> value.
