@@ -263,14 +263,14 @@ void OrcoMethod::learn_session(const SessionData& support, RunContext& context) 
   // The paper-era reference keeps the projector of the best test-set harmonic mean, checked after
   // epochs 1, 6, 11, ... and stopping after 16 checks without a better one (Network.py L1630-1683,
   // train.py L109/L183/L230 at 6608340b82): what --selection test-oracle does. Otherwise
-  // orco_session_stop's rule, on base validation and the session's shots.
+  // orco_session_stop's rule, on the same schedule, scored on base validation and the session's shots.
   std::function<double()> score;
   SessionStop stop = settings_.session_stop;
   if (context.selection == EpochSelection::test_oracle) {
     const torch::Tensor test = embed_in_batches(encoder_, context.oracle_test->features);
     const torch::Tensor test_labels = context.oracle_test->labels;
     score = [this, test, test_labels] { return harmonic_mean_of(test, test_labels); };
-    stop = SessionStop{true, 5, 16, 1, false};
+    stop = SessionStop{};
   } else if (settings_.session_stop.on_validation || context.selection == EpochSelection::validation) {
     if (context.validation == nullptr || context.validation->labels.size(0) == 0) {
       throw MethodError("orco_session_stop=validation needs a non-empty base validation split; use "
