@@ -7,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <ostream>
 #include <string>
+#include <vector>
 
 #include "core/stable_hash.h"
 #include "tests/fscil-bench/cli_support.h"
@@ -23,7 +25,13 @@ struct HostileCase {
   std::string arguments;  // {root} stands for a fresh folder holding out/ (with a user's file) and cache/
   int exit_code;
   const char* fragment;   // of the one error line
+  // More files under {root} before the command: "name/" a folder, "name=@path" a copy of the
+  // source tree's file, "name" a file of the user's.
+  std::vector<std::string> files = {};
 };
+
+// gtest names a case by this (ctest lists it), not by the struct's bytes.
+void PrintTo(const HostileCase& c, std::ostream* out) { *out << c.name; }
 
 // Every file below `root` with a digest of its content: what must come out of a refused command
 // exactly as it went in.
@@ -51,6 +59,13 @@ const HostileCase kCases[] = {
     {"context_strength_far_out_of_range", kRun + "--set context_strength=1e300", 1, "context_strength"},
     {"context_strength_past_its_physical_range", kRun + "--set context_strength=1000", 1, "context_strength"},
     {"context_strength_negative", kRun + "--set context_strength=-1", 1, "context_strength"},
+    // The user's files are the user's: a folder that was never an --out (no .lock) keeps its tables.
+    {"out_holding_the_users_summary", kRun, 1, "out/summary.csv was not written by fscil-bench", {"out/summary.csv"}},
+    {"out_holding_the_users_page", kRun, 1, "out/index.html was not written by fscil-bench", {"out/index.html"}},
+    {"out_holding_the_users_results_folder", kRun, 1, "out/results was not written by fscil-bench", {"out/results/"}},
+    {"report_into_the_users_folder", "report --results {root}/runs --out {root}/out", 1,
+     "out/results.tex was not written by fscil-bench", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    {"plain_run_into_a_sweeps_folder", kRun, 1, "a sweep's folder (it has cells/)", {"out/.lock", "out/cells/"}},
 };
 
 class HostileInput : public testing::TestWithParam<HostileCase> {};
@@ -61,6 +76,16 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   fs::create_directories(root.path() / "out");
   fs::create_directories(root.path() / "cache");
   std::ofstream(root.path() / "out" / "notes.txt") << "the user's own notes\n";
+  for (const std::string& file : c.files) {
+    const auto copied = file.find("=@");
+    const fs::path path = root.path() / file.substr(0, copied);
+    fs::create_directories(path.parent_path());
+    if (copied != std::string::npos) {
+      fs::copy_file(fs::path(FSCIL_SOURCE_DIR) / file.substr(copied + 2), path);
+    } else if (file.back() != '/') {
+      std::ofstream(path) << "the user's " << file << "\n";
+    }
+  }
   const auto before = tree_of(root.path());
 
   const CommandResult result = run_cli(with_root(c.arguments, root.path()));

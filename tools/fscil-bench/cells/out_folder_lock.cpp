@@ -14,6 +14,12 @@ namespace fscil {
 
 namespace {
 
+// What fscil-bench writes in an --out: a folder holding one of them but no .lock was never an
+// --out, so the file is the user's and would be replaced.
+constexpr const char* kWrittenNames[] = {"summary.csv", "sessions.csv", "results.tex", "costs.csv", "costs.tex",
+                                         "index.html", "paper_comparison.csv", "context_analysis.csv", "results",
+                                         "logs", "figures", "checkpoints", "cells", "embeddings", "models"};
+
 enum class Locked { yes, busy };
 
 // flock()s `file` (created if needed); busy when another process holds a conflicting lock.
@@ -30,7 +36,20 @@ Locked lock_file(const std::filesystem::path& file, int operation, int& descript
 
 }  // namespace
 
+void refuse_files_not_ours(const std::filesystem::path& folder) {
+  std::error_code error;
+  if (!std::filesystem::is_directory(folder, error) || std::filesystem::exists(folder / ".lock", error)) return;
+  for (const char* name : kWrittenNames) {
+    if (std::filesystem::exists(folder / name, error)) {
+      throw ProtocolError(fmt::format("--out {}: {} was not written by fscil-bench (the folder has never been an --out) "
+                                      "and would be replaced; move it away or choose another --out",
+                                      folder.string(), (folder / name).string()));
+    }
+  }
+}
+
 OutFolderLock::OutFolderLock(const std::filesystem::path& folder, Hold hold) {
+  refuse_files_not_ours(folder);
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) throw ProtocolError(fmt::format("--out {}: cannot create the folder ({})", folder.string(), error.message()));

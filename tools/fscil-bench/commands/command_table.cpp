@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -17,6 +18,7 @@
 #include "reports/run_record.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/cells/cell_runner.h"
+#include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/logmel_command.h"
 #include "tools/fscil-bench/commands/reference_command.h"
 #include "tools/fscil-bench/commands/report_writer.h"
@@ -245,6 +247,10 @@ class ReportCommand : public Subcommand {
   int run(Invocation&) override {
     const auto records = load_command_records(results_, methods_, grid_);
     const std::filesystem::path directory = out_.empty() ? results_ : out_;
+    std::optional<OutFolderLock> claimed;  // another folder's files may be the user's
+    if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
+      claimed.emplace(out_);
+    }
     fmt::print("{}", write_reports(directory, records));
     if (paper_) {
       const std::filesystem::path tables = paper_tables_.empty() ? default_paper_tables() : std::filesystem::path(paper_tables_);

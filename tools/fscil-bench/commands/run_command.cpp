@@ -587,7 +587,18 @@ int configure_threads(int requested) {
   return threads;
 }
 
+// Before any work: --out holds nothing of the user's, and is no sweep's folder (its cells live in
+// cells/ and its tables span them: a plain run there would replace them).
+void refuse_out_folder_of_others(const RunOptions& options) {
+  refuse_files_not_ours(options.out);
+  if (options.grid.empty() && fs::is_directory(fs::path(options.out) / "cells")) {
+    throw ProtocolError(fmt::format("--out {}: a sweep's folder (it has cells/); a run there would replace the sweep's "
+                                    "tables: write to another --out", options.out));
+  }
+}
+
 std::string run_benchmark(const RunOptions& options) {
+  refuse_out_folder_of_others(options);
   ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
   const CommandPlan plan = plan_command(options, progress);
   const OutFolderLock lock = claim_out_folder(options, plan);
