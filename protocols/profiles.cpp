@@ -6,6 +6,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/shown_text.h"
 #include "core/parameter_set.h"
 #include "methods/method_registry.h"
 
@@ -23,13 +24,18 @@ const std::vector<Profile>& profiles() {
   return table;
 }
 
-void apply_profile(const std::string& name, ParameterSet& params) {
+void require_profile(const std::string& name, const std::string& where) {
   const bool known = std::any_of(profiles().begin(), profiles().end(), [&](const Profile& p) { return name == p.name; });
   if (!known) {
     std::vector<std::string> names;
     for (const auto& profile : profiles()) names.emplace_back(profile.name);
-    throw ProtocolError(fmt::format("unknown profile '{}': expected one of {}", name, fmt::join(names, ", ")));
+    throw ProtocolError(fmt::format("{}unknown profile '{}': expected one of {}", where.empty() ? "" : where + ": ",
+                                    shown_text(name), fmt::join(names, ", ")));
   }
+}
+
+void apply_profile(const std::string& name, ParameterSet& params) {
+  require_profile(name);
   // Every method's defaults for the profile: methods sharing a stage share its keys, and must agree.
   std::map<std::string, std::pair<std::string, std::string>> applied;  // key -> value, method
   for (const auto& entry : method_registry()) {

@@ -16,6 +16,8 @@ struct Profile {
 const std::vector<Profile>& profiles();
 // Applies every registered method's defaults for the named profile (before --set); throws
 // ProtocolError for an unknown name, MethodError where two methods shorten one key differently.
+// Throws ProtocolError unless `name` is a profile; `where` (a file) starts the message.
+void require_profile(const std::string& name, const std::string& where = "");
 void apply_profile(const std::string& name, ParameterSet& params);
 
 }  // namespace fscil

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "core/shown_text.h"
@@ -11,6 +12,8 @@
 #include "reports/comparable_runs.h"
 #include "core/text_file.h"
 #include "core/error.h"
+#include "core/number_text.h"
+#include "core/parallel_for.h"
 #include "metrics/json_numbers.h"
 #include "metrics/session_json.h"
 
@@ -87,6 +90,55 @@ std::string to_json_text(const RunRecord& record) {
   return document.dump(2) + "\n";
 }
 
+namespace {
+
+// Fields that are each well formed can still contradict one another: the run the file claims
+// to be must be one the program could have written.
+void check_as_a_whole(const RunRecord& record, const std::string& origin) {
+  if (record.threads < 1 || record.threads > kMaxThreads) {
+    throw ReportError(fmt::format("{}: threads {}, expected 1 to {}", origin, record.threads, kMaxThreads));
+  }
+  const auto protocol_value = [&](const std::string& key) -> std::optional<std::int64_t> {
+    for (const auto* values : {&record.protocol_parameters, &record.parameters}) {
+      if (const auto found = values->find(key); found != values->end()) return parse_number<std::int64_t>(found->second);
+    }
+    return std::nullopt;
+  };
+  const auto sessions = protocol_value("sessions");
+  if (sessions && static_cast<std::int64_t>(record.sessions.size()) > *sessions) {
+    throw ReportError(fmt::format("{}: {} sessions recorded, expected at most the protocol's {}", origin,
+                                  record.sessions.size(), *sessions));
+  }
+  for (std::size_t i = 0; i < record.sessions.size(); ++i) {
+    const SessionOutcome& session = record.sessions[i];
+    if (session.session != static_cast<int>(i)) {
+      throw ReportError(fmt::format("{}: session {} recorded in place {}, expected sessions 0, 1, 2, ... in order",
+                                    origin, session.session, i));
+    }
+    const int earlier = i == 0 ? 0 : record.sessions[i - 1].seen_classes;
+    if (session.seen_classes <= earlier) {
+      throw ReportError(fmt::format("{}: session {} has {} seen classes, expected more than {}", origin, i,
+                                    session.seen_classes, earlier));
+    }
+    if (session.accuracy.samples < 1) {
+      throw ReportError(fmt::format("{}: session {} was tested on {} samples, expected at least 1", origin, i,
+                                    session.accuracy.samples));
+    }
+  }
+  // A sweep cell's value is the value its run used.
+  for (const auto& [key, value] : record.grid) {
+    const std::string used = key == "selection" ? record.selection
+                             : record.parameters.count(key) > 0 ? record.parameters.at(key)
+                             : record.protocol_parameters.count(key) > 0 ? record.protocol_parameters.at(key)
+                                                                          : value;
+    if (used != value) {
+      throw ReportError(fmt::format("{}: grid cell {}={} but the run used {}={}", origin, key, value, key, used));
+    }
+  }
+}
+
+}  // namespace
+
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin) {
   try {
     const json document = json::parse(text);
@@ -156,6 +208,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     }
     record.sessions = sessions_from_json(document.at("sessions"), origin);
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));
+    check_as_a_whole(record, origin);
     return record;
   } catch (const json::exception& error) {
     throw ReportError(fmt::format("{}: not a valid result file ({})", origin, error.what()));

@@ -104,6 +104,46 @@ TEST(RunRecord, CountsAreWholeNumbersInRange) {
   }
 }
 
+// Fields each well formed that contradict one another: not a run the program could have written.
+TEST(RunRecord, AFileIsCheckedAsAWhole) {
+  RunRecord three = record_of("prototype", 1, {50, 40, 30});
+  three.protocol_parameters = {{"sessions", "3"}, {"shot", "5"}};
+  EXPECT_EQ(run_record_from_json_text(to_json_text(three), "ok.json").sessions.size(), 3u);
+  const auto refusal = [](const RunRecord& record) {
+    try {
+      run_record_from_json_text(to_json_text(record), "odd.json");
+    } catch (const ReportError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  RunRecord swapped = three;
+  std::swap(swapped.sessions[1], swapped.sessions[2]);
+  EXPECT_EQ(refusal(swapped), "odd.json: session 2 recorded in place 1, expected sessions 0, 1, 2, ... in order");
+  RunRecord shrinking = three;
+  shrinking.sessions[2].seen_classes = 15;
+  EXPECT_EQ(refusal(shrinking), "odd.json: session 2 has 15 seen classes, expected more than 15");
+  RunRecord no_classes = three;
+  no_classes.sessions[0].seen_classes = 0;
+  EXPECT_EQ(refusal(no_classes), "odd.json: session 0 has 0 seen classes, expected more than 0");
+  RunRecord untested = three;
+  untested.sessions[1].accuracy.samples = 0;
+  EXPECT_EQ(refusal(untested), "odd.json: session 1 was tested on 0 samples, expected at least 1");
+  RunRecord idle = three;
+  idle.threads = 0;
+  EXPECT_EQ(refusal(idle), "odd.json: threads 0, expected 1 to 256");
+  RunRecord longer = three;
+  longer.sessions.push_back(longer.sessions.back());
+  longer.sessions.back().session = 3;
+  longer.sessions.back().seen_classes = 25;
+  EXPECT_EQ(refusal(longer), "odd.json: 4 sessions recorded, expected at most the protocol's 3");
+  RunRecord cell = three;
+  cell.grid = {{"shot", "9"}};
+  EXPECT_EQ(refusal(cell), "odd.json: grid cell shot=9 but the run used shot=5");
+  cell.grid = {{"shot", "5"}, {"selection", "validation"}};
+  EXPECT_EQ(refusal(cell), "odd.json: grid cell selection=validation but the run used selection=last");
+}
+
 TEST(RunRecord, BadFilesNameThemselves) {
   TemporaryDirectory directory;
   save_run_record(directory.path(), record_of("prototype", 1, {50, 40}));

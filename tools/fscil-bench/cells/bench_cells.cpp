@@ -142,6 +142,7 @@ std::string run_cell(const RunOptions& options, const std::vector<std::string>& 
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid) {
   std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
+  for (const auto& record : records) require_profile(record.profile, record.source);
   if (methods.empty()) return records;
   const std::vector<std::string> order = resolve_method_names(methods);
   std::vector<std::string> cells;  // as load_sweep_records ordered them

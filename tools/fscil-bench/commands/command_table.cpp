@@ -172,7 +172,9 @@ class RerunCommand : public Subcommand {
     }
     RunOptions& run = invocation.run;
     if (!invocation.given("--out") && invocation.resume_dir.empty()) run.out = "rerun";
-    run = rerun_options(run_record_from_json_text(read_text_file(file_), file_), run);
+    const RunRecord record = run_record_from_json_text(read_text_file(file_), file_);
+    require_profile(record.profile, file_);
+    run = rerun_options(record, run);
     fmt::print("{}", run_benchmark(run));
     return exit_status::success;
   }
