@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_keys.h"
 #include "core/stable_hash.h"
 #include "core/text_file.h"
 #include "datasets/readers/regular_file.h"
@@ -39,12 +40,20 @@ struct FolderExpectation {
 class DatasetJson {
  public:
   explicit DatasetJson(const fs::path& path) : path_(path) {
-    std::ifstream in(path);
-    if (!in) throw DatasetError(fmt::format("{}: no such file, expected the folder format's dataset.json", path.string()));
+    if (!names_a_regular_file(path)) {
+      std::error_code unknown;
+      throw DatasetError(fmt::format("{}: {}, expected the folder format's dataset.json", path.string(),
+                                     fs::exists(path, unknown) ? "not a regular file" : "no such file"));
+    }
+    const std::string text = read_text_file(path);
     try {
-      root_ = json::parse(in);
+      root_ = json::parse(text);
     } catch (const json::exception& error) {
       throw DatasetError(fmt::format("{}: not valid JSON ({})", path.string(), error.what()));
+    }
+    if (const auto key = duplicated_json_key(text)) {
+      throw DatasetError(fmt::format("{}: field '{}' given twice in one object; give it once", path.string(),
+                                     shown_text(*key)));
     }
     if (!root_.is_object()) throw DatasetError(fmt::format("{}: expected a JSON object", path.string()));
   }
@@ -97,6 +106,15 @@ class DatasetJson {
     if (!root_.contains(field)) return empty;
     if (!root_[field].is_object()) fail(field, "an object");
     return root_[field];
+  }
+  // A misspelt field would silently take its default: every key of `object` must be one of `known`.
+  void require_known_keys(const json& object, const std::string& where, const std::vector<std::string>& known) const {
+    for (const auto& [key, value] : object.items()) {
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        throw DatasetError(fmt::format("{}: unknown field '{}{}', expected one of {}", path_.string(), where,
+                                       shown_text(key), fmt::join(known, ", ")));
+      }
+    }
   }
   [[noreturn]] void fail(const std::string& field, const std::string& expected) const {
     throw DatasetError(fmt::format("{}: field '{}': expected {}", path_.string(), field, expected));
@@ -159,6 +177,13 @@ SessionDefaults sessions_of(const DatasetJson& config, int classes, const Sessio
   defaults.way = count("way", defaults.way, ValidRange::between(1, classes));
   defaults.shot = count("shot", defaults.shot, ValidRange::at_least(1));
   defaults.sessions = count("sessions", defaults.sessions, ValidRange::between(1, classes));
+  // Classes no session takes would be in the data and in no result: say so rather than drop them.
+  const std::int64_t used = defaults.base_classes + static_cast<std::int64_t>(defaults.way) * (defaults.sessions - 1);
+  if (spec.contains("sessions") && used != classes) {
+    config.fail("sessions", fmt::format("a protocol over the {} classes of the manifest: base_classes {} + way {} x "
+                                        "(sessions {} - 1) takes {}", classes, defaults.base_classes, defaults.way,
+                                        defaults.sessions, used));
+  }
   return defaults;
 }
 
@@ -278,6 +303,11 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
   const fs::path config_path = root / "dataset.json";
   const DatasetJson config(config_path);
   const json& top = config.root();
+  config.require_known_keys(top, "", {"name", "sample_rate", "channels", "segment_seconds", "hop_seconds",
+                                      "max_segments_per_recording", "front_end", "sessions"});
+  config.require_known_keys(config.object("front_end"), "front_end.",
+                            {"preset", "n_fft", "hop", "n_mels", "f_min", "f_max", "center"});
+  config.require_known_keys(config.object("sessions"), "sessions.", {"base_classes", "way", "shot", "sessions"});
 
   DatasetScan scan;
   scan.root = root;

@@ -26,7 +26,7 @@ struct HostileCase {
   int exit_code;
   const char* fragment;   // of the one error line
   // More files under {root} before the command: "name/" a folder, "name=@path" a copy of the
-  // source tree's file, "name" a file of the user's.
+  // source tree's file, "name=text" a file holding text, "name" a file of the user's.
   std::vector<std::string> files = {};
 };
 
@@ -54,6 +54,18 @@ std::string with_root(std::string arguments, const fs::path& root) {
 const std::string kRun = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet "
                          "--out {root}/out --cache-dir {root}/cache ";
 
+const std::string kFolderRun = "--methods prototype --dataset folder --data-root {root}/data --profile smoke "
+                               "--threads 1 --quiet --no-cache --out {root}/out ";
+const std::string kLabJson = R"(data/dataset.json={"name": "lab", "sample_rate": 100, "channels": ["a"], )"
+                             R"("segment_seconds": 0.02)";
+const std::vector<std::string> kTwoClasses = {"data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
+                                              "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n"};
+
+std::vector<std::string> with(std::vector<std::string> files, const std::string& more) {
+  files.push_back(more);
+  return files;
+}
+
 const HostileCase kCases[] = {
     // A failed preparation writes no cache: simulator knobs have physical ranges.
     {"context_strength_far_out_of_range", kRun + "--set context_strength=1e300", 1, "context_strength"},
@@ -66,6 +78,23 @@ const HostileCase kCases[] = {
     {"report_into_the_users_folder", "report --results {root}/runs --out {root}/out", 1,
      "out/results.tex was not written by fscil-bench", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
     {"plain_run_into_a_sweeps_folder", kRun, 1, "a sweep's folder (it has cells/)", {"out/.lock", "out/cells/"}},
+    // Formats read strictly: a typo or a repeat is not a default.
+    {"dataset_json_unknown_field", kFolderRun, 1, "unknown field 'sampel_rate', expected one of name, sample_rate",
+     with(kTwoClasses, kLabJson + R"(, "sampel_rate": 1000})")},
+    {"dataset_json_unknown_front_end_field", kFolderRun, 1, "unknown field 'front_end.nfft'",
+     with(kTwoClasses, kLabJson + R"(, "front_end": {"nfft": 64}})")},
+    {"dataset_json_field_twice", kFolderRun, 1, "field 'sample_rate' given twice in one object",
+     with(kTwoClasses, kLabJson + R"(, "sample_rate": 1000})")},
+    {"dataset_json_a_folder", kFolderRun, 1, "dataset.json: not a regular file", with(kTwoClasses, "data/dataset.json/")},
+    {"sessions_leaving_classes_out", kFolderRun, 1, "takes 1",
+     with(kTwoClasses, kLabJson + R"(, "sessions": {"sessions": 1}})")},
+    {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},
+    {"config_key_twice", kRun + "--config {root}/run.json", 2, "key 'shot' given twice",
+     {R"(run.json={"set": {"shot": 5, "shot": 3}})"}},
+    {"resume_with_other_seeds",
+     "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --seeds 2 --resume {root}/out",
+     1, "prototype__simtex-mini__seed1.ckpt is the checkpoint of a run this command does not make",
+     {"out/.lock", "out/checkpoints/prototype__simtex-mini__seed1.ckpt"}},
 };
 
 class HostileInput : public testing::TestWithParam<HostileCase> {};
@@ -77,11 +106,13 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   fs::create_directories(root.path() / "cache");
   std::ofstream(root.path() / "out" / "notes.txt") << "the user's own notes\n";
   for (const std::string& file : c.files) {
-    const auto copied = file.find("=@");
-    const fs::path path = root.path() / file.substr(0, copied);
+    const auto equals = file.find('=');
+    const fs::path path = root.path() / file.substr(0, equals);
     fs::create_directories(path.parent_path());
-    if (copied != std::string::npos) {
-      fs::copy_file(fs::path(FSCIL_SOURCE_DIR) / file.substr(copied + 2), path);
+    if (equals != std::string::npos && file.compare(equals, 2, "=@") == 0) {
+      fs::copy_file(fs::path(FSCIL_SOURCE_DIR) / file.substr(equals + 2), path);
+    } else if (equals != std::string::npos) {
+      std::ofstream(path) << file.substr(equals + 1);
     } else if (file.back() != '/') {
       std::ofstream(path) << "the user's " << file << "\n";
     }

@@ -12,6 +12,7 @@
 #include "protocols/profiles.h"
 #include "reports/run_record.h"
 #include "core/error.h"
+#include "tools/fscil-bench/options/run_option_table.h"
 #include "tools/fscil-bench/options/dataset_defaults.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/report_writer.h"
@@ -51,7 +52,7 @@ std::vector<MethodGroup> method_groups(const RunOptions& options) {
   ParameterSet params;
   apply_dataset_defaults(options.dataset, params);
   apply_profile(options.profile, params);
-  for (const auto& assignment : options.assignments) params.set_assignment(assignment);
+  apply_assignments(options.assignments, params);
   std::vector<MethodGroup> groups;
   std::vector<std::string> keys;
   for (const auto& name : resolve_method_names(options.methods)) {

@@ -20,6 +20,7 @@
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "core/error.h"
+#include "tools/fscil-bench/options/run_option_table.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/saved_model.h"
@@ -61,7 +62,7 @@ ParameterSet base_parameters(const RunOptions& options) {
   apply_profile(options.profile, params);
   params.set("split_mode", options.split_mode);
   params.set("class_order", options.class_order);
-  for (const auto& assignment : options.assignments) params.set_assignment(assignment);
+  apply_assignments(options.assignments, params);
   return params;
 }
 
@@ -303,6 +304,19 @@ OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& pla
   for (const auto& method : plan.method_names) {
     for (std::uint64_t seed : plan.seeds) {
       cell_runs.push_back(checkpoint_path("", method, options.dataset, seed).stem().string());
+    }
+  }
+  // Resuming with other --methods or --seeds than the interrupted command would run what it did
+  // not and leave its interrupted run behind.
+  const fs::path checkpoints = fs::path(options.out) / "checkpoints";
+  if (options.resume && options.cell < 0 && fs::is_directory(checkpoints)) {
+    for (const auto& entry : fs::directory_iterator(checkpoints)) {
+      if (entry.path().extension() != ".ckpt") continue;
+      if (std::find(cell_runs.begin(), cell_runs.end(), entry.path().stem().string()) == cell_runs.end()) {
+        throw ProtocolError(fmt::format("--resume {}: {} is the checkpoint of a run this command does not make; "
+                                        "resume with the --methods and --seeds of the interrupted command",
+                                        options.out, entry.path().string()));
+      }
     }
   }
   return options.cell < 0 ? OutFolderLock(options.out) : OutFolderLock(options.out, cell_runs);

@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_keys.h"
+#include "core/shown_text.h"
 #include "core/text_file.h"
 
 namespace fscil {
@@ -51,6 +53,10 @@ json parse_config(const std::filesystem::path& file) {
     throw CliError(fmt::format("--config {}: not JSON ({})", file.string(), error.what()));
   }
   if (!config.is_object()) throw CliError(fmt::format("--config {}: expected a JSON object of run options", file.string()));
+  if (const auto key = duplicated_json_key(text)) {
+    throw CliError(fmt::format("--config {}: key '{}' given twice in one object; give it once", file.string(),
+                               shown_text(*key)));
+  }
   return config;
 }
 

@@ -1,10 +1,14 @@
 #include "tools/fscil-bench/options/run_option_table.h"
 
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
+#include <map>
 #include <type_traits>
 
+#include "core/error.h"
 #include "core/parallel_for.h"
+#include "core/shown_text.h"
 #include "tools/fscil-bench/options/cli_range.h"
 
 namespace fscil {
@@ -111,6 +115,19 @@ std::vector<std::string> run_option_words(const RunOptions& options) {
         row.member);
   }
   return words;
+}
+
+void apply_assignments(const std::vector<std::string>& assignments, ParameterSet& params) {
+  std::map<std::string, std::string> given;
+  for (const auto& assignment : assignments) {
+    const std::string key = assignment.substr(0, assignment.find('='));
+    if (const auto earlier = given.find(key); earlier != given.end()) {
+      throw CliError(fmt::format("--set {}: given twice ('{}', then '{}'); give each key once", shown_text(key),
+                                 shown_text(earlier->second), shown_text(assignment)));
+    }
+    given.emplace(key, assignment);
+    params.set_assignment(assignment);
+  }
 }
 
 }  // namespace fscil

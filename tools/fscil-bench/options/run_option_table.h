@@ -4,6 +4,7 @@
 #include <variant>
 #include <vector>
 
+#include "core/parameter_set.h"
 #include "core/valid_range.h"
 #include "tools/fscil-bench/commands/run_command.h"
 
@@ -43,5 +44,8 @@ void declare_run_options(CLI::App& app, RunOptions& options);
 
 // `options` as the words of a command line (fscil-bench ...), every written option explicit.
 std::vector<std::string> run_option_words(const RunOptions& options);
+
+// Sets every --set key=value on `params`; a key given twice is refused (the last would win silently).
+void apply_assignments(const std::vector<std::string>& assignments, ParameterSet& params);
 
 }  // namespace fscil
