@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 
 #include "core/error.h"
 #include "core/shown_text.h"
@@ -52,6 +53,11 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
   if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
   if (!valid.contains(*parsed)) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, shown_text(*value), valid.describe()));
+  }
+  // Training runs in float: a value past float's range overflows in the first tensor it meets.
+  if (std::abs(*parsed) > std::numeric_limits<float>::max()) {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected a number of at most {:g} in size (training runs in "
+                                    "32-bit floats)", key, shown_text(*value), std::numeric_limits<float>::max()));
   }
   remember(key, shown_text(*value));
   return *parsed;

@@ -31,6 +31,10 @@ H5::DataSet open_dataset(const H5::H5File& file, const fs::path& path, const std
   if (!file.nameExists(name)) {
     throw DatasetError(fmt::format("{}: has no dataset '{}'", path.string(), name));
   }
+  if (const H5O_type_t type = file.childObjType(name); type != H5O_TYPE_DATASET) {
+    throw DatasetError(fmt::format("{}: '{}' is a {}, expected a dataset", path.string(), name,
+                                   type == H5O_TYPE_GROUP ? "group" : "named data type"));
+  }
   return file.openDataSet(name);
 }
 

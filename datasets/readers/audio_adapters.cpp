@@ -45,7 +45,7 @@ class ClipCollector {
 
   void add(const fs::path& file, int class_index, SplitHint split, const std::string& where) {
     if (!names_a_regular_file(file)) {
-      throw DatasetError(fmt::format("{}: audio file {} not found", where, file.string()));
+      throw DatasetError(fmt::format("{}: audio file {}: {}", where, file.string(), why_not_a_regular_file(file)));
     }
     const std::string id = fs::relative(file, scan_.root).string();
     const auto [previous, fresh] = where_of_.emplace(id, where);

@@ -41,9 +41,8 @@ class DatasetJson {
  public:
   explicit DatasetJson(const fs::path& path) : path_(path) {
     if (!names_a_regular_file(path)) {
-      std::error_code unknown;
       throw DatasetError(fmt::format("{}: {}, expected the folder format's dataset.json", path.string(),
-                                     fs::exists(path, unknown) ? "not a regular file" : "no such file"));
+                                     why_not_a_regular_file(path)));
     }
     const std::string text = read_text_file(path);
     try {
@@ -165,10 +164,15 @@ LogMelSettings front_end_of(const DatasetJson& config, double sample_rate, const
 // Protocol defaults when dataset.json gives none: 5-way 5-shot, about 60% of classes in the base session.
 SessionDefaults sessions_of(const DatasetJson& config, int classes, const SessionDefaults& fallback) {
   const json& spec = config.object("sessions");
+  if (classes < 2) {
+    config.fail("sessions", fmt::format("a manifest of at least 2 classes (it has {}): a class-incremental protocol "
+                                        "needs base classes and new ones", classes));
+  }
   SessionDefaults defaults = fallback;
   if (defaults.sessions == 0) {
     const int incremental = std::max(1, classes * 2 / 5 / 5);
-    defaults = {std::max(1, classes - 5 * incremental), 5, 5, 1 + incremental};
+    const int way = std::min(5, (classes - 1) / incremental);  // fewer than 5 new classes a session in small sets
+    defaults = {classes - way * incremental, way, 5, 1 + incremental};
   }
   const auto count = [&](const char* field, int fallback, const ValidRange& valid) {
     return static_cast<int>(config.integer(spec, field, valid, fallback));
@@ -224,7 +228,7 @@ std::vector<fs::path> files_of(const std::string& field, const fs::path& root, s
     }
     const fs::path file = root / item;
     if (!names_a_regular_file(file)) {
-      throw DatasetError(fmt::format("{}: file {} not found", where, shown_text(file.string())));
+      throw DatasetError(fmt::format("{}: file {}: {}", where, shown_text(file.string()), why_not_a_regular_file(file)));
     }
     files.push_back(file);
   }

@@ -16,7 +16,7 @@ namespace fscil {
 namespace {
 
 std::ifstream open_or_throw(const std::filesystem::path& path) {
-  if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
+  if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: {}", path.string(), why_not_a_regular_file(path)));
   std::error_code unknown;
   const auto bytes = std::filesystem::file_size(path, unknown);
   if (!unknown && bytes > kMaxTextFileBytes) {

@@ -35,7 +35,9 @@ bool header_promises_more_than_present(SNDFILE* file) {
 }  // namespace
 
 std::vector<float> read_mono_audio(const std::filesystem::path& path, double expected_rate) {
-  if (!names_a_regular_file(path)) throw DatasetError(fmt::format("{}: no such audio file", path.string()));
+  if (!names_a_regular_file(path)) {
+    throw DatasetError(fmt::format("{}: {}, expected an audio file", path.string(), why_not_a_regular_file(path)));
+  }
   SF_INFO info{};
   std::unique_ptr<SNDFILE, SndfileCloser> file(sf_open(path.c_str(), SFM_READ, &info));
   if (!file) {

@@ -2,6 +2,7 @@
 // field) and what was expected; a failed load leaves the feature cache as it was.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <map>
 #include <sstream>
@@ -148,15 +149,32 @@ TEST_F(HaptexManifestErrors, ManifestNamingAMissingFile) {
   fs::remove(recording(2, 1));
   const std::string message = load_error("haptex", root.path());
   EXPECT_MENTIONS(message, "manifest.csv:");
-  EXPECT_MENTIONS(message, "fabric02_1.csv not found");
+  EXPECT_MENTIONS(message, "fabric02_1.csv: no such file");
+}
+
+// What a name is when it is no file: a folder, a FIFO (whose reading would block), a loop of links.
+TEST_F(HaptexManifestErrors, ARecordingThatIsNoRegularFileSaysWhatItIs) {
+  const fs::path file = recording(2, 1);
+  fs::remove(file);
+  fs::create_directory(file);
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: a folder, not a file");
+  fs::remove(file);
+  ASSERT_EQ(::mkfifo(file.c_str(), 0644), 0);
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: a FIFO, not a regular file");
+  fs::remove(file);
+  fs::create_symlink(file.filename(), file);
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: a loop of symbolic links");
+  fs::remove(file);
+  fs::create_symlink("absent.csv", file);
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: a symbolic link to nothing");
 }
 
 // Found by fuzzing: a name longer than the file system takes escaped as std::filesystem_error.
-TEST_F(HaptexManifestErrors, AFileNameNoFileSystemTakesIsNotFound) {
+TEST_F(HaptexManifestErrors, AFileNameNoFileSystemTakesIsUnreadable) {
   replace_in(manifest(), "recordings/fabric02_1.csv,", "recordings/" + std::string(300, 'x') + ".csv,");
   const std::string message = load_error("haptex", root.path());
   EXPECT_MENTIONS(message, "manifest.csv:11: file ");
-  EXPECT_MENTIONS(message, " not found");
+  EXPECT_MENTIONS(message, "bytes in all): unreadable (File name too long)");
 }
 
 TEST_F(HaptexManifestErrors, ManifestRowWithAWrongColumnCount) {
@@ -298,10 +316,10 @@ TEST_F(AudioErrors, ListedFileMissingAndListedTwice) {
                   "librispeech_fscil_test.csv:2: 100/100-0000.wav is already listed at");
 }
 
-TEST_F(AudioErrors, AFileNameNoFileSystemTakesIsNotFound) {
+TEST_F(AudioErrors, AFileNameNoFileSystemTakesIsUnreadable) {
   replace_in(root.path() / "librispeech_fscil_test.csv", "100/100-0006.wav", "100/" + std::string(300, 'x') + ".wav");
   EXPECT_MENTIONS(load_error("ls100", root.path()), "librispeech_fscil_test.csv:2: audio file");
-  EXPECT_MENTIONS(load_error("ls100", root.path()), "xxx.wav not found");
+  EXPECT_MENTIONS(load_error("ls100", root.path()), "xxx.wav: unreadable (File name too long)");
 }
 
 // The readers themselves, reached without an adapter's check first: a name no file system takes is
@@ -317,8 +335,9 @@ TEST(FileReaders, ANameNoFileSystemTakesIsNoSuchFile) {
     }
     return std::string("no DatasetError");
   };
-  EXPECT_MENTIONS(message_of([&] { read_text_table(too_long); }), "xxx.csv: no such file");
-  EXPECT_MENTIONS(message_of([&] { read_mono_audio(too_long, 16000); }), "xxx.csv: no such audio file");
+  EXPECT_MENTIONS(message_of([&] { read_text_table(too_long); }), "xxx.csv: unreadable (File name too long)");
+  EXPECT_MENTIONS(message_of([&] { read_mono_audio(too_long, 16000); }),
+                  "xxx.csv: unreadable (File name too long), expected an audio file");
 }
 
 TEST_F(AudioErrors, MissingListAndBadLabel) {

@@ -85,7 +85,7 @@ const HostileCase kCases[] = {
      with(kTwoClasses, kLabJson + R"(, "front_end": {"nfft": 64}})")},
     {"dataset_json_field_twice", kFolderRun, 1, "field 'sample_rate' given twice in one object",
      with(kTwoClasses, kLabJson + R"(, "sample_rate": 1000})")},
-    {"dataset_json_a_folder", kFolderRun, 1, "dataset.json: not a regular file", with(kTwoClasses, "data/dataset.json/")},
+    {"dataset_json_a_folder", kFolderRun, 1, "dataset.json: a folder, not a file", with(kTwoClasses, "data/dataset.json/")},
     {"sessions_leaving_classes_out", kFolderRun, 1, "takes 1",
      with(kTwoClasses, kLabJson + R"(, "sessions": {"sessions": 1}})")},
     {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},

@@ -40,7 +40,19 @@ void parse(CLI::App& app, int argc, char** argv) {
   }
   std::vector<char*> words;
   for (auto& argument : arguments) words.push_back(argument.data());
-  app.parse(static_cast<int>(words.size()), words.data());
+  try {
+    app.parse(static_cast<int>(words.size()), words.data());
+  } catch (const CLI::ParseError& error) {
+    // A bad value the file gave is the file's to name, not a flag the user never typed.
+    const std::string config = config_file_of({argv, argv + argc}), message = error.what();
+    if (config.empty() || error.get_exit_code() == 0) throw;
+    for (const auto& key : config_keys(config)) {
+      if (message.rfind("--" + key + ":", 0) == 0) {
+        throw CliError(fmt::format("--config {}: \"{}\":{}", config, key, message.substr(key.size() + 3)));
+      }
+    }
+    throw;
+  }
 }
 
 // --resume DIR continues the command whose --out it was.

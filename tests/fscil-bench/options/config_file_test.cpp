@@ -30,7 +30,8 @@ TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
   const auto file = write(directory, R"({"methods": "prototype", "seeds": "1-2", "threads": 2, "save-model": true,
     "quiet": false, "set": {"shot": 3, "pic_weight": 0.1}, "grid": {"pspc_probes": [5, 50], "shot": [1]}})");
   const Words command_line = {"fscil-bench", "sweep", "--seeds", "3", "--set", "shot=5", "--config", file.string()};
-  const Words expected = {"fscil-bench", "--methods", "prototype", "--threads", "2", "--save-model", "--set", "shot=3",
+  // The command line's --set shot=5 replaces the file's shot (a key is given once).
+  const Words expected = {"fscil-bench", "--methods", "prototype", "--threads", "2", "--save-model",
                           "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=1",
                           "--seeds", "3", "--set", "shot=5", "--config", file.string()};
   EXPECT_EQ(with_config_file(command_line, file, run_option), expected);

@@ -26,6 +26,18 @@ std::string text_of(const json& value, const std::string& where) {
   throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
 }
 
+// Whether the command line sets `key` with --set (its value wins over the file's).
+bool set_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
+  for (std::size_t i = 1; i < command_line.size(); ++i) {
+    const std::string& word = command_line[i];
+    const std::string assignment = word == "--set" && i + 1 < command_line.size() ? command_line[i + 1]
+                                   : word.rfind("--set=", 0) == 0                 ? word.substr(6)
+                                                                                  : std::string();
+    if (assignment.substr(0, assignment.find('=')) == key) return true;
+  }
+  return false;
+}
+
 bool given(const std::vector<std::string>& command_line, const std::string& option) {
   return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
     return word == option || word.rfind(option + "=", 0) == 0;
@@ -69,6 +81,13 @@ std::vector<std::pair<std::string, std::string>> settings_of(const json& value, 
 
 }  // namespace
 
+std::vector<std::string> config_keys(const std::filesystem::path& file) {
+  std::vector<std::string> keys;
+  const json config = parse_config(file);
+  for (const auto& [key, value] : config.items()) keys.push_back(key);
+  return keys;
+}
+
 std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file) {
   const json config = parse_config(file);
   if (!config.contains("set")) return {};
@@ -93,7 +112,9 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
     const std::string where = fmt::format("--config {}: \"{}\"", file.string(), key);
     if (key == "set") {
       for (const auto& [name, setting] : settings_of(value, where)) {
-        if (!swept_on_command_line(command_line, name)) options.insert(options.end(), {"--set", name + "=" + setting});
+        if (!swept_on_command_line(command_line, name) && !set_on_command_line(command_line, name)) {
+          options.insert(options.end(), {"--set", name + "=" + setting});
+        }
       }
     } else if (key == "grid") {
       if (!value.is_object()) throw CliError(where + ": expected an object of keys and value lists");

@@ -13,7 +13,7 @@ namespace fscil {
 // command line with the file's options inserted: run options after the program name, --grid after
 // the subcommand that takes it. An option the command line gives itself is left out (the flag
 // overrides the file); the file's --set assignments come first, so the command line's assignment
-// of the same key wins, and a key the command line sweeps with --grid is taken from there alone.
+// of the same key replaces the file's, and a key the command line sweeps with --grid is taken from there alone.
 // `is_option` says whether "--name" is a run option. CliError naming the
 // file on anything else: unreadable JSON, an unknown key, a value of the wrong type, a grid
 // without a sweep, plan, run-cells or slurm subcommand.
@@ -24,6 +24,9 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
 // The "set" block of a config file as key -> value text (numbers as written, booleans as
 // true/false): what the released dataset configs give as their datasets' defaults.
 std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file);
+
+// The top-level keys of a config file, in its order.
+std::vector<std::string> config_keys(const std::filesystem::path& file);
 
 // The FILE of `--config FILE` or `--config=FILE` in the command line, or "".
 std::string config_file_of(const std::vector<std::string>& command_line);
