@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -18,9 +19,16 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
+// The program under test: the one built beside the tests, or FSCIL_BENCH_UNDER_TEST (another build,
+// e.g. an older commit's, to count which cases it fails).
+inline std::string program_under_test() {
+  const char* other = std::getenv("FSCIL_BENCH_UNDER_TEST");
+  return other != nullptr && *other != '\0' ? other : FSCIL_BENCH_EXECUTABLE;
+}
+
 // `environment`: assignments the shell puts before the command, for this run only.
 inline CommandResult run_cli(const std::string& arguments, const std::string& environment = "") {
-  const std::string command = environment + " " + std::string(FSCIL_BENCH_EXECUTABLE) + " " + arguments + " 2>&1";
+  const std::string command = environment + " " + program_under_test() + " " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   std::array<char, 512> buffer{};

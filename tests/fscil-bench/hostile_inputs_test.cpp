@@ -61,6 +61,16 @@ const std::string kLabJson = R"(data/dataset.json={"name": "lab", "sample_rate":
 const std::vector<std::string> kTwoClasses = {"data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
                                               "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n"};
 
+// " --grid key=0,1,...,values-1" for each key: a grid of values^keys cells.
+std::string grid_of(const std::string& keys, int values) {
+  std::string grid;
+  for (char key : keys) {
+    grid += std::string(" --grid ") + key + "=0";
+    for (int v = 1; v < values; ++v) grid += "," + std::to_string(v);
+  }
+  return grid;
+}
+
 std::vector<std::string> with(std::vector<std::string> files, const std::string& more) {
   files.push_back(more);
   return files;
@@ -78,6 +88,23 @@ const HostileCase kCases[] = {
     {"report_into_the_users_folder", "report --results {root}/runs --out {root}/out", 1,
      "out/results.tex was not written by fscil-bench", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
     {"plain_run_into_a_sweeps_folder", kRun, 1, "a sweep's folder (it has cells/)", {"out/.lock", "out/cells/"}},
+    // Sizes bounded before work, and no script line from an option.
+    {"sweep_of_billions_of_cells",
+     "sweep --methods prototype --dataset simtex-mini --profile smoke --quiet --out {root}/out" + grid_of("abcd", 255),
+     2, "--grid: 4228250625 cells (255 x 255 x 255 x 255) are more than the 10000 a sweep takes"},
+    {"sbatch_arg_setting_the_array",
+     "slurm --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --sbatch-arg=--array=0-99", 2,
+     "--sbatch-arg --array=0-99: --array is fscil-bench's to set"},
+    {"partition_holding_a_command",
+     "slurm --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --partition 'cpu\ntouch PWNED'",
+     2, "--partition 'cpu\\ntouch PWNED': expected a Slurm partition name"},
+    // Leakage a copy can hide.
+    {"manifest_path_out_of_the_dataset", kFolderRun, 1, "file '../r1.csv' is outside the dataset folder",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\n../r1.csv,b,g,r1\n",
+      "data/r0.csv=a\n1\n2\n3\n", "r1.csv=a\n10\n20\n30\n"}},
+    {"recording_copied_under_another_name", kFolderRun, 1, "has the same bytes as recording 'r0'",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
+      "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n1\n2\n3\n"}},
     // Formats read strictly: a typo or a repeat is not a default.
     {"dataset_json_unknown_field", kFolderRun, 1, "unknown field 'sampel_rate', expected one of name, sample_rate",
      with(kTwoClasses, kLabJson + R"(, "sampel_rate": 1000})")},
