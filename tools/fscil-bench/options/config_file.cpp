@@ -26,34 +26,28 @@ std::string text_of(const json& value, const std::string& where) {
   throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
 }
 
-// Whether the command line sets `key` with --set (its value wins over the file's).
-bool set_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
-  for (std::size_t i = 1; i < command_line.size(); ++i) {
-    const std::string& word = command_line[i];
-    const std::string assignment = word == "--set" && i + 1 < command_line.size() ? command_line[i + 1]
-                                   : word.rfind("--set=", 0) == 0                 ? word.substr(6)
-                                                                                  : std::string();
-    if (assignment.substr(0, assignment.find('=')) == key) return true;
-  }
-  return false;
-}
-
 bool given(const std::vector<std::string>& command_line, const std::string& option) {
   return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
     return word == option || word.rfind(option + "=", 0) == 0;
   });
 }
 
-// The keys the command line sweeps: `--grid KEY=...` or `--grid=KEY=...`.
-bool swept_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
+// Whether the command line gives `key` a value with `option` (`--set KEY=...`, `--grid=KEY=...`):
+// a --set value or a --grid axis of the command line replaces the file's.
+bool keyed_on_command_line(const std::vector<std::string>& command_line, const std::string& option,
+                           const std::string& key) {
   for (std::size_t i = 1; i < command_line.size(); ++i) {
     const std::string& word = command_line[i];
-    const std::string axis = word == "--grid" && i + 1 < command_line.size() ? command_line[i + 1]
-                             : word.rfind("--grid=", 0) == 0              ? word.substr(7)
-                                                                          : std::string();
-    if (axis.substr(0, axis.find('=')) == key) return true;
+    const std::string value = word == option && i + 1 < command_line.size() ? command_line[i + 1]
+                              : word.rfind(option + "=", 0) == 0           ? word.substr(option.size() + 1)
+                                                                           : std::string();
+    if (value.substr(0, value.find('=')) == key) return true;
   }
   return false;
+}
+
+bool swept_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
+  return keyed_on_command_line(command_line, "--grid", key);
 }
 
 json parse_config(const std::filesystem::path& file) {
@@ -112,7 +106,7 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
     const std::string where = fmt::format("--config {}: \"{}\"", file.string(), key);
     if (key == "set") {
       for (const auto& [name, setting] : settings_of(value, where)) {
-        if (!swept_on_command_line(command_line, name) && !set_on_command_line(command_line, name)) {
+        if (!swept_on_command_line(command_line, name) && !keyed_on_command_line(command_line, "--set", name)) {
           options.insert(options.end(), {"--set", name + "=" + setting});
         }
       }
