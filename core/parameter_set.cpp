@@ -56,8 +56,8 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
   }
   // Training runs in float: a value past float's range overflows in the first tensor it meets.
   if (std::abs(*parsed) > std::numeric_limits<float>::max()) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a number of at most {:g} in size (training runs in "
-                                    "32-bit floats)", key, shown_text(*value), std::numeric_limits<float>::max()));
+    throw ProtocolError(fmt::format("parameter {}='{}': expected a number of at most {:g} in magnitude "
+                                    "(training runs in 32-bit floats)", key, shown_text(*value), std::numeric_limits<float>::max()));
   }
   remember(key, shown_text(*value));
   return *parsed;

@@ -5,7 +5,7 @@
 namespace fscil {
 
 // A stop asked of a command by SIGTERM (Slurm's warning before a time limit or a preemption) or
-// SIGINT. The handler only records the signal; training polls it after every epoch and session
+// SIGINT. The handler only records the signal; training polls it after every step, epoch and session
 // and then throws StopRequested, so what survives is the checkpoint of the last finished session,
 // from which --resume (or a requeued Slurm task) continues with the same numbers. A SIGINT after
 // any stop request (Ctrl-C twice) ends the process at once; a second SIGTERM changes nothing.

@@ -13,7 +13,6 @@
 #include "core/text_file.h"
 #include "core/error.h"
 #include "core/number_text.h"
-#include "core/parallel_for.h"
 #include "metrics/json_numbers.h"
 #include "metrics/session_json.h"
 
@@ -95,9 +94,8 @@ namespace {
 // Fields that are each well formed can still contradict one another: the run the file claims
 // to be must be one the program could have written.
 void check_as_a_whole(const RunRecord& record, const std::string& origin) {
-  if (record.threads < 1 || record.threads > kMaxThreads) {
-    throw ReportError(fmt::format("{}: threads {}, expected 1 to {}", origin, record.threads, kMaxThreads));
-  }
+  // Not bounded above: --threads 0 records every hardware thread of the machine, however many.
+  if (record.threads < 1) throw ReportError(fmt::format("{}: threads {}, expected 1 or more", origin, record.threads));
   const auto protocol_value = [&](const std::string& key) -> std::optional<std::int64_t> {
     for (const auto* values : {&record.protocol_parameters, &record.parameters}) {
       if (const auto found = values->find(key); found != values->end()) return parse_number<std::int64_t>(found->second);

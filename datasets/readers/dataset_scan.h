@@ -28,6 +28,9 @@ struct DatasetScan {
   DatasetDescription description;
   std::vector<RecordingSource> recordings;
   std::function<SignalData(const RecordingSource&)> read;
+  // Refuse two recordings with the same samples (a copy under another name would put one signal
+  // on both sides of a split): the folder format, whose manifests users write by hand.
+  bool refuse_identical_recordings = false;
 };
 
 }  // namespace fscil

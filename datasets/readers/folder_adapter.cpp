@@ -12,7 +12,6 @@
 
 #include "core/error.h"
 #include "core/json_keys.h"
-#include "core/stable_hash.h"
 #include "core/text_file.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
@@ -164,10 +163,6 @@ LogMelSettings front_end_of(const DatasetJson& config, double sample_rate, const
 // Protocol defaults when dataset.json gives none: 5-way 5-shot, about 60% of classes in the base session.
 SessionDefaults sessions_of(const DatasetJson& config, int classes, const SessionDefaults& fallback) {
   const json& spec = config.object("sessions");
-  if (classes < 2) {
-    config.fail("sessions", fmt::format("a manifest of at least 2 classes (it has {}): a class-incremental protocol "
-                                        "needs base classes and new ones", classes));
-  }
   SessionDefaults defaults = fallback;
   if (defaults.sessions == 0) {
     const int incremental = std::max(1, classes * 2 / 5 / 5);
@@ -259,45 +254,6 @@ struct ListedFile {
   std::string recording;
 };
 
-// Whether two recordings hold the same bytes, file by file.
-bool same_bytes(const RecordingSource& a, const RecordingSource& b) {
-  for (std::size_t f = 0; f < a.files.size(); ++f) {
-    if (read_text_file(a.files[f]) != read_text_file(b.files[f])) return false;
-  }
-  return true;
-}
-
-// A byte-identical copy of a recording under another name would put one signal on both sides of a
-// split. Only recordings whose files have equal sizes can be equal, so only those are read. One
-// equal channel file is no copy (a sensor that was off gives the same file every time).
-void refuse_copies(const std::vector<RecordingSource>& recordings, const std::map<std::string, int>& line_of_recording,
-                   const fs::path& manifest) {
-  std::map<std::vector<std::uintmax_t>, std::vector<const RecordingSource*>> of_sizes;
-  for (const auto& recording : recordings) {
-    std::vector<std::uintmax_t> sizes;
-    for (const auto& file : recording.files) sizes.push_back(fs::file_size(file));
-    of_sizes[sizes].push_back(&recording);
-  }
-  for (const auto& [sizes, same_sizes] : of_sizes) {
-    if (same_sizes.size() < 2) continue;
-    std::map<std::string, std::vector<const RecordingSource*>> by_digest;
-    for (const RecordingSource* recording : same_sizes) {  // in manifest order
-      std::string digests;
-      for (const auto& file : recording->files) digests += stable_hash(read_text_file(file));
-      auto& earlier = by_digest[digests];
-      for (const RecordingSource* other : earlier) {
-        if (!same_bytes(*recording, *other)) continue;
-        throw DatasetError(fmt::format("{}:{}: recording '{}' ({}) has the same bytes as recording '{}' (line {}, {}); "
-                                       "a copy would put one signal on both sides of a split: list each recording once",
-                                       manifest.string(), line_of_recording.at(recording->id), recording->id,
-                                       recording->files.front().string(), other->id, line_of_recording.at(other->id),
-                                       other->files.front().string()));
-      }
-      earlier.push_back(recording);
-    }
-  }
-}
-
 SignalData read_folder_recording(const RecordingSource& source, const std::vector<std::string>& channels) {
   if (source.files.front().extension() == ".csv") return read_signal_csv(source.files.front(), channels);
   return stack_channel_files(source.files, read_single_column);
@@ -381,9 +337,12 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
     }
     scan.recordings.push_back(std::move(source));
   }
-  refuse_copies(scan.recordings, line_of_recording, manifest_path);
   if (scan.recordings.empty()) {
     throw DatasetError(fmt::format("{}: no recordings, expected a row per recording", manifest_path.string()));
+  }
+  if (d.class_names.size() < 2) {
+    throw DatasetError(fmt::format("{}: 1 class, expected at least 2 (a class-incremental protocol needs base classes "
+                                   "and new ones)", manifest_path.string()));
   }
   d.sessions = sessions_of(config, static_cast<int>(d.class_names.size()),
                            expected ? expected->sessions : SessionDefaults{0, 5, 5, 0});
@@ -391,6 +350,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
   scan.read = [channels = d.channel_names](const RecordingSource& source) {
     return read_folder_recording(source, channels);
   };
+  scan.refuse_identical_recordings = true;
   return scan;
 }
 

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 
 #include "core/error.h"
 #include "core/parallel_for.h"
+#include "core/stable_hash.h"
 #include "datasets/segment_cache.h"
 
 namespace fscil {
@@ -28,6 +30,29 @@ std::string fingerprint_of(const DatasetScan& scan) {
   }
   return fmt::format("files={} fingerprint={}", files, stable_hash(listing));
 }
+
+namespace {
+
+// Checked once the signals are read (only when the segment cache misses): equal samples, whatever
+// the files' names, links or number formatting.
+void refuse_identical(const DatasetScan& scan, const std::vector<Recording>& recordings) {
+  std::map<std::string, std::vector<std::size_t>> by_digest;
+  for (std::size_t r = 0; r < recordings.size(); ++r) {
+    const auto& signal = recordings[r].signal;
+    const std::string bytes(reinterpret_cast<const char*>(signal.data()), signal.size() * sizeof(float));
+    auto& earlier = by_digest[fmt::format("{}:{}", recordings[r].channels, stable_hash(bytes))];
+    for (std::size_t e : earlier) {
+      if (recordings[e].signal != signal) continue;
+      throw DatasetError(fmt::format("{}: recording '{}' has the same samples as recording '{}' ({}); a copy would put "
+                                     "one signal on both sides of a split: list each recording once",
+                                     scan.recordings[r].files.front().string(), recordings[r].id, recordings[e].id,
+                                     scan.recordings[e].files.front().string()));
+    }
+    earlier.push_back(r);
+  }
+}
+
+}  // namespace
 
 std::vector<Recording> read_recordings(const DatasetScan& scan, int threads) {
   const std::size_t count = scan.recordings.size();
@@ -51,6 +76,7 @@ std::vector<Recording> read_recordings(const DatasetScan& scan, int threads) {
     recording.context = source.context;
     recording.split_hint = source.split;
   });
+  if (scan.refuse_identical_recordings) refuse_identical(scan, recordings);
   return recordings;
 }
 

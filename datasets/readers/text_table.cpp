@@ -20,9 +20,8 @@ std::ifstream open_or_throw(const std::filesystem::path& path) {
   std::error_code unknown;
   const auto bytes = std::filesystem::file_size(path, unknown);
   if (!unknown && bytes > kMaxTextFileBytes) {
-    throw DatasetError(fmt::format("{}: {:.1f} GiB of text, expected at most {} GiB per file (an hour of three "
-                                   "channels at 10 kHz takes about 1 GiB); split the recording into several files",
-                                   path.string(), static_cast<double>(bytes) / (1 << 30), kMaxTextFileBytes >> 30));
+    throw DatasetError(fmt::format("{}: {} bytes, expected a text file of at most {} bytes (1 GiB: about an hour of "
+                                   "three channels at 10 kHz)", path.string(), bytes, kMaxTextFileBytes));
   }
   std::ifstream in(path);
   if (!in) throw DatasetError(fmt::format("{}: cannot be opened for reading", path.string()));

@@ -207,8 +207,8 @@ TEST_F(HaptexManifestErrors, LeakageACopyOrALinkCouldHideIsRefused) {
   fs::remove(recording(1, 2));
   fs::copy_file(recording(1, 1), recording(1, 2));
   EXPECT_MENTIONS(load_error("haptex", root.path()),
-                  "manifest.csv:8: recording 'fabric01_rec2' (" + recording(1, 2).string() +
-                      ") has the same bytes as recording 'fabric01_rec1' (line 7, " + recording(1, 1).string() + ")");
+                  recording(1, 2).string() + ": recording 'fabric01_rec2' has the same samples as recording "
+                  "'fabric01_rec1' (" + recording(1, 1).string() + ")");
   // Paths out of the dataset folder, relative or absolute.
   replace_in(manifest(), "recordings/fabric01_2.csv,", "../other/fabric01_2.csv,");
   EXPECT_MENTIONS(load_error("haptex", root.path()),
@@ -245,7 +245,7 @@ TEST_F(HaptexManifestErrors, NonNumericAndNanValuesNameLineAndColumn) {
 TEST_F(HaptexManifestErrors, ARecordingPastTheTextSizeLimitIsRefusedBeforeItIsRead) {
   // A sparse file: 1 GiB and one byte of text on a disk that keeps none of it.
   fs::resize_file(recording(2, 1), kMaxTextFileBytes + 1);
-  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: 1.0 GiB of text, expected at most 1 GiB per file");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "fabric02_1.csv: 1073741825 bytes, expected a text file of at most 1073741824 bytes");
 }
 
 TEST_F(HaptexManifestErrors, UnknownSplitAndMalformedContext) {

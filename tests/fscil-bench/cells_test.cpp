@@ -88,12 +88,13 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   expect_one_error_line(run_cli(command + " --sbatch-arg=account=abc"), "expected one sbatch option on one line");
   expect_one_error_line(run_cli(command + " '--sbatch-arg=--account=a b'"), "expected one sbatch option on one line");
   // The array, threads and logs are the command's: neither an option nor its prefix may set them over.
-  for (const char* computed : {"--array=0-99", "--arr=1", "--cpus-per-task=64", "--output=/tmp/x", "--requeue"}) {
+  for (const char* computed : {"--array=0-99", "--arr=1", "--cpus-per-task=64", "--output=/tmp/x"}) {
     const CommandResult overridden = run_cli(command + " --sbatch-arg=" + computed);
     expect_one_error_line(overridden, "is fscil-bench's to set");
     EXPECT_EQ(overridden.exit_code, 2) << overridden.output;
   }
-  EXPECT_EQ(run_cli(command + " --sbatch-arg=--account=abc --sbatch-arg=--qos=short").exit_code, 0);
+  EXPECT_EQ(run_cli(command + " --sbatch-arg=--account=abc --sbatch-arg=--qos=short --sbatch-arg=--job-name=mine "
+                              "--sbatch-arg=--signal=B:TERM@300").exit_code, 0);
   // Values that reach #SBATCH lines are checked as what they are, before anything is written.
   TemporaryDirectory refused;
   const std::string elsewhere = "slurm --methods prototype --dataset simtex-mini --profile smoke --out " +

@@ -23,7 +23,10 @@ struct CommandResult {
 // e.g. an older commit's, to count which cases it fails).
 inline std::string program_under_test() {
   const char* other = std::getenv("FSCIL_BENCH_UNDER_TEST");
-  return other != nullptr && *other != '\0' ? other : FSCIL_BENCH_EXECUTABLE;
+  if (other == nullptr || *other == '\0') return FSCIL_BENCH_EXECUTABLE;
+  static const bool said = std::fprintf(stderr, "testing FSCIL_BENCH_UNDER_TEST=%s\n", other) > 0;
+  (void)said;
+  return other;
 }
 
 // `environment`: assignments the shell puts before the command, for this run only.

@@ -78,15 +78,18 @@ std::vector<std::string> with(std::vector<std::string> files, const std::string&
 
 const HostileCase kCases[] = {
     // A failed preparation writes no cache: simulator knobs have physical ranges.
-    {"context_strength_far_out_of_range", kRun + "--set context_strength=1e300", 1, "context_strength"},
-    {"context_strength_past_its_physical_range", kRun + "--set context_strength=1000", 1, "context_strength"},
-    {"context_strength_negative", kRun + "--set context_strength=-1", 1, "context_strength"},
+    {"context_strength_far_out_of_range", kRun + "--set context_strength=1e300", 1,
+     "parameter context_strength='1e300': expected a number in [0, 5]"},
+    {"context_strength_past_its_physical_range", kRun + "--set context_strength=1000", 1,
+     "parameter context_strength='1000': expected a number in [0, 5]"},
+    {"context_strength_negative", kRun + "--set context_strength=-1", 1,
+     "parameter context_strength='-1': expected a number in [0, 5]"},
     // The user's files are the user's: a folder that was never an --out (no .lock) keeps its tables.
-    {"out_holding_the_users_summary", kRun, 1, "out/summary.csv was not written by fscil-bench", {"out/summary.csv"}},
-    {"out_holding_the_users_page", kRun, 1, "out/index.html was not written by fscil-bench", {"out/index.html"}},
-    {"out_holding_the_users_results_folder", kRun, 1, "out/results was not written by fscil-bench", {"out/results/"}},
+    {"out_holding_the_users_summary", kRun, 1, "out/summary.csv would be replaced, and nothing says fscil-bench wrote it",
+     {"out/summary.csv"}},
+    {"out_holding_the_users_page", kRun, 1, "out/index.html would be replaced", {"out/index.html", "out/results/"}},
     {"report_into_the_users_folder", "report --results {root}/runs --out {root}/out", 1,
-     "out/results.tex was not written by fscil-bench", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     "out/results.tex would be replaced", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
     {"plain_run_into_a_sweeps_folder", kRun, 1, "a sweep's folder (it has cells/)", {"out/.lock", "out/cells/"}},
     // Sizes bounded before work, and no script line from an option.
     {"sweep_of_billions_of_cells",
@@ -102,7 +105,7 @@ const HostileCase kCases[] = {
     {"manifest_path_out_of_the_dataset", kFolderRun, 1, "file '../r1.csv' is outside the dataset folder",
      {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\n../r1.csv,b,g,r1\n",
       "data/r0.csv=a\n1\n2\n3\n", "r1.csv=a\n10\n20\n30\n"}},
-    {"recording_copied_under_another_name", kFolderRun, 1, "has the same bytes as recording 'r0'",
+    {"recording_copied_under_another_name", kFolderRun, 1, "r1.csv: recording 'r1' has the same samples as recording 'r0'",
      {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
       "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n1\n2\n3\n"}},
     // Formats read strictly: a typo or a repeat is not a default.
@@ -113,7 +116,7 @@ const HostileCase kCases[] = {
     {"dataset_json_field_twice", kFolderRun, 1, "field 'sample_rate' given twice in one object",
      with(kTwoClasses, kLabJson + R"(, "sample_rate": 1000})")},
     {"dataset_json_a_folder", kFolderRun, 1, "dataset.json: a folder, not a file", with(kTwoClasses, "data/dataset.json/")},
-    {"sessions_leaving_classes_out", kFolderRun, 1, "takes 1",
+    {"sessions_leaving_classes_out", kFolderRun, 1, "base_classes 1 + way 1 x (sessions 1 - 1) takes 1",
      with(kTwoClasses, kLabJson + R"(, "sessions": {"sessions": 1}})")},
     {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},
     {"config_key_twice", kRun + "--config {root}/run.json", 2, "key 'shot' given twice",
@@ -150,6 +153,26 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   expect_one_error_line(result, c.fragment);
   EXPECT_EQ(result.exit_code, c.exit_code) << result.output;
   EXPECT_EQ(tree_of(root.path()), before) << "files changed by: " << c.arguments;
+}
+
+// What the refusals must leave alone: folders fscil-bench wrote, with or without their .lock.
+TEST(OutFolder, FoldersFscilBenchWroteStayUsable) {
+  TemporaryDirectory root;
+  const std::string out = (root.path() / "out").string(), tables = (root.path() / "tables").string();
+  const std::string run = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache ";
+  ASSERT_EQ(run_cli(run + "--out " + out).exit_code, 0);
+  fs::remove(root.path() / "out" / ".lock");  // a folder from before the .lock, or copied without it
+  const CommandResult resumed = run_cli(run + "--resume " + out);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  for (int time = 0; time < 2; ++time) {
+    const CommandResult report = run_cli("report --results " + out + " --out " + tables);
+    EXPECT_EQ(report.exit_code, 0) << report.output;
+  }
+  // A config file's bad value is named as the file's, not as a flag the user never typed.
+  std::ofstream(root.path() / "run.json") << R"({"threads": "two"})";
+  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --config " +
+                                (root.path() / "run.json").string() + " --out " + out),
+                        "run.json: \"threads\": expected a number in [0, 256]");
 }
 
 INSTANTIATE_TEST_SUITE_P(Table, HostileInput, testing::ValuesIn(kCases),

@@ -96,8 +96,13 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
   expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + out.path().string()), "corrupt checkpoint");
   EXPECT_FALSE(std::filesystem::exists(result("cop-fscil")));
 
-  // The same file under another seed's name: a checkpoint of another run.
+  // The same file under another seed's name: a checkpoint of another run. Resumed with --seeds 2
+  // beside seed 1's checkpoint, the command would leave seed 1 behind: refused first.
   std::filesystem::rename(saved, out.path() / "checkpoints" / "cop-fscil__simtex-mini__seed2.ckpt");
+  expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet "
+                                "--no-cache --seeds 2 --resume " + out.path().string()),
+                        "cop-fscil__simtex-mini__seed1.ckpt is the checkpoint of a run this command does not make");
+  std::filesystem::remove(checkpoint());
   expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet "
                                 "--no-cache --seeds 2 --resume " + out.path().string()),
                         "checkpoint of another run");

@@ -307,7 +307,7 @@ TEST(ParameterSet, RefusesValuesOutsideWhatTheirOwnerSaysIsValid) {
   const auto any = [](const ParameterSet& p) { p.real("x", 0, ValidRange::any()); };
   EXPECT_EQ(refusal("x", "-3e38", any), "accepted");
   EXPECT_EQ(refusal("x", "-1e300", any),
-            "parameter x='-1e300': expected a number of at most 3.40282e+38 in size (training runs in 32-bit floats)");
+            "parameter x='-1e300': expected a number of at most 3.40282e+38 in magnitude (training runs in 32-bit floats)");
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -46,8 +47,12 @@ void parse(CLI::App& app, int argc, char** argv) {
     // A bad value the file gave is the file's to name, not a flag the user never typed.
     const std::string config = config_file_of({argv, argv + argc}), message = error.what();
     if (config.empty() || error.get_exit_code() == 0) throw;
+    const std::vector<std::string> typed(argv, argv + argc);
     for (const auto& key : config_keys(config)) {
-      if (message.rfind("--" + key + ":", 0) == 0) {
+      const bool typed_too = std::any_of(typed.begin(), typed.end(), [&](const std::string& word) {
+        return word == "--" + key || word.rfind("--" + key + "=", 0) == 0;
+      });
+      if (!typed_too && message.rfind("--" + key + ":", 0) == 0) {
         throw CliError(fmt::format("--config {}: \"{}\":{}", config, key, message.substr(key.size() + 3)));
       }
     }

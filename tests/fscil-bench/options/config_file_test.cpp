@@ -41,6 +41,13 @@ TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
   const Words without_shot = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2", "--save-model",
                               "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=2,4"};
   EXPECT_EQ(with_config_file(sweeps_shot, file, run_option), without_shot);
+  // CLI11 reads `--set a=1 shot=5` as one --set of two values: shot is the command line's there too.
+  const Words two_values = {"fscil-bench", "--set", "pic_weight=0.2", "shot=5"};
+  const Words only_the_command_lines = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2",
+                                        "--save-model", "--set", "pic_weight=0.2", "shot=5"};
+  const auto set_only = write(directory, R"({"methods": "prototype", "seeds": "1-2", "threads": 2, "save-model": true,
+    "set": {"shot": 3, "pic_weight": 0.1}})");
+  EXPECT_EQ(with_config_file(two_values, set_only, run_option), only_the_command_lines);
   const auto flags = write(directory, R"({"set": {"use_cutmix": true, "temperature": 16}})");
   EXPECT_EQ(config_settings(flags), (std::vector<std::pair<std::string, std::string>>{{"use_cutmix", "true"},
                                                                                       {"temperature", "16"}}));

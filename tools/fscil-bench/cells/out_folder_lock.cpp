@@ -14,11 +14,10 @@ namespace fscil {
 
 namespace {
 
-// What fscil-bench writes in an --out: a folder holding one of them but no .lock was never an
-// --out, so the file is the user's and would be replaced.
-constexpr const char* kWrittenNames[] = {"summary.csv", "sessions.csv", "results.tex", "costs.csv", "costs.tex",
-                                         "index.html", "paper_comparison.csv", "context_analysis.csv", "results",
-                                         "logs", "figures", "checkpoints", "cells", "embeddings", "models"};
+// The tables fscil-bench writes at the top of an --out, replacing what is there: in a folder it never
+// held (no .lock, no result files) a file of one of these names is the user's.
+constexpr const char* kTableNames[] = {"summary.csv", "sessions.csv", "results.tex", "costs.csv", "costs.tex",
+                                       "index.html", "paper_comparison.csv", "context_analysis.csv"};
 
 enum class Locked { yes, busy };
 
@@ -37,12 +36,19 @@ Locked lock_file(const std::filesystem::path& file, int operation, int& descript
 }  // namespace
 
 void refuse_files_not_ours(const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
   std::error_code error;
-  if (!std::filesystem::is_directory(folder, error) || std::filesystem::exists(folder / ".lock", error)) return;
-  for (const char* name : kWrittenNames) {
-    if (std::filesystem::exists(folder / name, error)) {
-      throw ProtocolError(fmt::format("--out {}: {} was not written by fscil-bench (the folder has never been an --out) "
-                                      "and would be replaced; move it away or choose another --out",
+  if (!fs::is_directory(folder, error) || fs::exists(folder / ".lock", error)) return;
+  // Result files mark a folder fscil-bench wrote before it had a .lock, or that was copied without it.
+  if (fs::is_directory(folder / "results", error)) {
+    for (const auto& entry : fs::directory_iterator(folder / "results", error)) {
+      if (entry.path().extension() == ".json") return;
+    }
+  }
+  for (const char* name : kTableNames) {
+    if (fs::exists(folder / name, error)) {
+      throw ProtocolError(fmt::format("--out {}: {} would be replaced, and nothing says fscil-bench wrote it (the "
+                                      "folder has no .lock and no result files); move it away or choose another --out",
                                       folder.string(), (folder / name).string()));
     }
   }

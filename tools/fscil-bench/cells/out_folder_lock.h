@@ -9,10 +9,11 @@ namespace fscil {
 // result files and checkpoints would interleave). The locks are flock()s on `.lock` files in the
 // folder, opened for writing so NFS's emulation takes them too; they go with the process, kill -9
 // included. On a file system without locks the folder is unguarded rather than unusable. The
-// `.lock` file also marks the folder as fscil-bench's: a folder without it that holds a name
-// fscil-bench writes (summary.csv, index.html, results/, ...) is the user's, and is refused.
-// Throws ProtocolError when `folder` holds a name fscil-bench writes but has no `.lock`: the
-// file is the user's and would be replaced. Checked before any work, and again when locking.
+// `.lock` file also marks the folder as fscil-bench's (as result files in results/ do): a folder
+// with neither that holds a table fscil-bench would replace (summary.csv, index.html, ...) is the
+// user's, and is refused.
+// Throws ProtocolError when `folder` holds a table fscil-bench would replace but neither a `.lock`
+// nor result files: the table is the user's. Checked before any work, and again when locking.
 void refuse_files_not_ours(const std::filesystem::path& folder);
 
 class OutFolderLock {

@@ -20,9 +20,8 @@ namespace fs = std::filesystem;
 namespace {
 
 // The #SBATCH options the array script computes from the command (its cells, their threads, their
-// logs, how a time limit stops them): an --sbatch-arg may not set them over.
-constexpr const char* kComputedSbatchOptions[] = {"array", "cpus-per-task", "output", "open-mode",
-                                                  "signal", "requeue", "job-name"};
+// logs): an --sbatch-arg may not set them over (--max-parallel and --threads say what they say).
+constexpr const char* kComputedSbatchOptions[] = {"array", "cpus-per-task", "output", "open-mode"};
 
 // Every value that reaches an #SBATCH line, checked as what it is, so neither sbatch nor bash can
 // read it as something else (a newline would be a command, a space splits sbatch's value).
@@ -46,8 +45,9 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
     const std::string name = argument.substr(2, argument.find('=') - 2);
     for (const char* computed : kComputedSbatchOptions) {
       if (!name.empty() && std::string(computed).rfind(name, 0) == 0) {
-        throw CliError(fmt::format("--sbatch-arg {}: --{} is fscil-bench's to set (the cells, their threads and logs); "
-                                   "expected another sbatch option", shell_command({argument}), computed));
+        throw CliError(fmt::format("--sbatch-arg {}: --{} is fscil-bench's to set from the command (the cells with "
+                                   "--max-parallel, their threads with --threads, their logs under --out); expected "
+                                   "another sbatch option", shell_command({argument}), computed));
       }
     }
   }

@@ -32,16 +32,19 @@ bool given(const std::vector<std::string>& command_line, const std::string& opti
   });
 }
 
-// Whether the command line gives `key` a value with `option` (`--set KEY=...`, `--grid=KEY=...`):
-// a --set value or a --grid axis of the command line replaces the file's.
+// Whether the command line gives `key` a value with `option` (`--set KEY=...`, `--grid=KEY=...`,
+// or a later word of `--set a=1 KEY=2`, which CLI11 reads as one --set): a --set value or a --grid
+// axis of the command line replaces the file's.
 bool keyed_on_command_line(const std::vector<std::string>& command_line, const std::string& option,
                            const std::string& key) {
+  const auto names_key = [&](const std::string& value) { return value.substr(0, value.find('=')) == key; };
   for (std::size_t i = 1; i < command_line.size(); ++i) {
     const std::string& word = command_line[i];
-    const std::string value = word == option && i + 1 < command_line.size() ? command_line[i + 1]
-                              : word.rfind(option + "=", 0) == 0           ? word.substr(option.size() + 1)
-                                                                           : std::string();
-    if (value.substr(0, value.find('=')) == key) return true;
+    if (word.rfind(option + "=", 0) == 0 && names_key(word.substr(option.size() + 1))) return true;
+    if (word != option) continue;
+    for (std::size_t j = i + 1; j < command_line.size() && command_line[j].rfind('-', 0) != 0; ++j) {
+      if (names_key(command_line[j])) return true;
+    }
   }
   return false;
 }
