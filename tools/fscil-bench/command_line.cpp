@@ -3,7 +3,6 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -49,10 +48,7 @@ void parse(CLI::App& app, int argc, char** argv) {
     if (config.empty() || error.get_exit_code() == 0) throw;
     const std::vector<std::string> typed(argv, argv + argc);
     for (const auto& key : config_keys(config)) {
-      const bool typed_too = std::any_of(typed.begin(), typed.end(), [&](const std::string& word) {
-        return word == "--" + key || word.rfind("--" + key + "=", 0) == 0;
-      });
-      if (!typed_too && message.rfind("--" + key + ":", 0) == 0) {
+      if (!command_line_gives(typed, "--" + key) && message.rfind("--" + key + ":", 0) == 0) {
         throw CliError(fmt::format("--config {}: \"{}\":{}", config, key, message.substr(key.size() + 3)));
       }
     }

@@ -26,11 +26,6 @@ std::string text_of(const json& value, const std::string& where) {
   throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
 }
 
-bool given(const std::vector<std::string>& command_line, const std::string& option) {
-  return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
-    return word == option || word.rfind(option + "=", 0) == 0;
-  });
-}
 
 // Whether the command line gives `key` a value with `option` (`--set KEY=...`, `--grid=KEY=...`,
 // or a later word of `--set a=1 KEY=2`, which CLI11 reads as one --set): a --set value or a --grid
@@ -77,6 +72,12 @@ std::vector<std::pair<std::string, std::string>> settings_of(const json& value, 
 }
 
 }  // namespace
+
+bool command_line_gives(const std::vector<std::string>& command_line, const std::string& option) {
+  return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
+    return word == option || word.rfind(option + "=", 0) == 0;
+  });
+}
 
 std::vector<std::string> config_keys(const std::filesystem::path& file) {
   std::vector<std::string> keys;
@@ -126,7 +127,7 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
       }
     } else if (key == "config" || !is_option("--" + key)) {
       throw CliError(fmt::format("{}: not a run option (expected e.g. methods, dataset, seeds, set, grid)", where));
-    } else if (given(command_line, "--" + key)) {
+    } else if (command_line_gives(command_line, "--" + key)) {
       continue;  // the command line's own value wins
     } else if (value.is_boolean()) {
       if (value.get<bool>()) options.push_back("--" + key);

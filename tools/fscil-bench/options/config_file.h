@@ -25,6 +25,10 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
 // true/false): what the released dataset configs give as their datasets' defaults.
 std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file);
 
+// Whether the command line gives `option` itself (`--threads 2` or `--threads=2`): its value
+// wins over the file's.
+bool command_line_gives(const std::vector<std::string>& command_line, const std::string& option);
+
 // The top-level keys of a config file, in its order.
 std::vector<std::string> config_keys(const std::filesystem::path& file);
 
