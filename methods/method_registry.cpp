@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "methods/adbs/adbs_method.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/method.h"
 #include "methods/orco/orco_method.h"
@@ -21,6 +22,7 @@ std::vector<MethodEntry>& registry() {
     std::vector<MethodEntry> entries = {prototype_entry(), pits_sc_entry()};
     for (MethodEntry& variant : cop_fscil_entries()) entries.push_back(std::move(variant));
     entries.push_back(orco_entry());
+    entries.push_back(adbs_entry());
     return entries;
   }();
   return table;

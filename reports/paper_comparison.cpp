@@ -28,6 +28,7 @@ std::pair<std::string, std::string> paper_row_of(const std::string& method, cons
   if (method == "cop-fscil") return {"results_" + suffix, "CoP-FSCIL"};
   if (method == "pits-sc") return {"results_" + suffix, "PITS-SC"};
   if (method == "orco") return {"results_" + suffix, "OrCo"};
+  if (method == "adbs") return {"results_" + suffix, "ADBS"};
   if (method.rfind("cop-fscil/", 0) == 0) return {"ablation_" + suffix, method};
   return {};
 }

@@ -41,6 +41,17 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
   EXPECT_NE(markdown.find("| ours - paper | -28.00 | -28.00 | -28.00 |"), std::string::npos) << markdown;
 }
 
+TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem) {
+  std::vector<PaperRow> table = paper();
+  table.push_back({"results_haptex", "HapTex", "ADBS", "AAAI25", {92.95, 83.83, 72.58}, 34, 70.38, 4.77});
+  const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("adbs", "haptex", 1, {80, 40, 20}),
+                                                       run_with_accuracies("adbs", "ls100", 1, {80, 40, 20})}),
+                                       table);
+  ASSERT_EQ(rows.size(), 1u);  // the paper's audio tables have no ADBS row
+  EXPECT_EQ(rows[0].paper_method, "ADBS");
+  EXPECT_EQ(rows[0].paper, (std::vector<double>{92.95, 83.83, 72.58, 34, 70.38, 4.77}));
+}
+
 TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {
   const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("cop-fscil", "lmt108", 1, {90, 80, 70})}), paper());
   ASSERT_EQ(rows.size(), 1u);
