@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 
 #include "core/stable_hash.h"
 #include "core/error.h"
@@ -31,7 +34,33 @@ std::string tensor_text(const torch::Tensor& tensor) {
   return std::string(values.data_ptr<std::int64_t>(), values.data_ptr<std::int64_t>() + values.numel());
 }
 
+// LibTorch stores each name of the method's state as an attribute in TorchScript source, whose
+// reader cannot take a Python keyword there ("expected ident but found 'in'"): the part of `name`
+// that is one, or "" when there is none.
+std::string keyword_part(const std::string& name) {
+  static constexpr std::array<std::string_view, 35> kKeywords = {
+      "False", "None",   "True",    "and",      "as",   "assert", "async",  "await", "break",
+      "class", "continue", "def",   "del",      "elif", "else",   "except", "finally", "for",
+      "from",  "global", "if",      "import",   "in",   "is",     "lambda", "nonlocal", "not",
+      "or",    "pass",   "raise",   "return",   "try",  "while",  "with",   "yield"};
+  std::size_t first = 0;
+  while (first <= name.size()) {
+    const std::size_t end = std::min(name.find('.', first), name.size());
+    const std::string_view part(name.data() + first, end - first);
+    if (std::find(kKeywords.begin(), kKeywords.end(), part) != kKeywords.end()) return std::string(part);
+    first = end + 1;
+  }
+  return "";
+}
+
 std::string serialize(const RunCheckpoint& checkpoint) {
+  for (const auto& entry : checkpoint.method_state) {
+    if (const std::string part = keyword_part(entry.first); !part.empty()) {
+      throw ProtocolError(fmt::format("method state '{}': '{}' is a Python keyword, which a checkpoint cannot hold "
+                                      "(LibTorch could not read it back); rename that module or parameter",
+                                      shown_text(entry.first), part));
+    }
+  }
   torch::serialize::OutputArchive archive;
   archive.write("identity", text_tensor(checkpoint.identity));
   // Exact: a diverged loss's -inf comes back as -inf.

@@ -170,7 +170,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto path = fuzz::scratch_folder() / "run.ckpt";
   if (in.ConsumeBool()) {
     const RunCheckpoint saved = run_state(in);
-    save_checkpoint(path, saved);
+    std::filesystem::remove(path);
+    try {
+      save_checkpoint(path, saved);
+    } catch (const ProtocolError& error) {  // a state name LibTorch could not read back: nothing written
+      fuzz::require(std::string(error.what()).find("is a Python keyword") != std::string::npos);
+      fuzz::require(!std::filesystem::exists(path));
+      return 0;
+    }
     require_same(saved, load_checkpoint(path, kIdentity));
     return 0;
   }

@@ -52,6 +52,30 @@ torch::Tensor text_tensor(const std::string& text) {
 
 #define EXPECT_MENTIONS(message, fragment) EXPECT_NE((message).find(fragment), std::string::npos) << (message)
 
+// Found by tests/fuzz (fuzz_checkpoint_body): LibTorch wrote a state named "in" and could not read
+// the file back. Such a name is now refused before anything is written.
+TEST(RunCheckpoint, AStateNameLibTorchCannotReadBackIsRefusedBeforeWriting) {
+  TemporaryDirectory dir;
+  const fs::path path = dir.path() / "run.ckpt";
+  RunCheckpoint checkpoint = one_session();
+  checkpoint.method_state = {{"adapter.in.weight", torch::ones({2})}, {"encoder.stages.0.conv1.weight", torch::ones({3})}};
+  try {
+    save_checkpoint(path, checkpoint);
+    FAIL() << "expected ProtocolError";
+  } catch (const ProtocolError& error) {
+    EXPECT_NE(std::string(error.what()).find("method state 'adapter.in.weight': 'in' is a Python keyword"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+  // Names that only contain a keyword, and digits as parts, read back.
+  checkpoint.method_state = {{"inner.format.0.weight", torch::ones({2})}, {"if_gate", torch::ones({1})}};
+  save_checkpoint(path, checkpoint);
+  const RunCheckpoint loaded = load_checkpoint(path, "run");
+  EXPECT_EQ(loaded.method_state.size(), 2u);
+  EXPECT_TRUE(torch::equal(loaded.method_state.at("inner.format.0.weight"), torch::ones({2})));
+}
+
 TEST(RunCheckpoint, NanInfiniteAndSubnormalValuesReadBack) {
   TemporaryDirectory directory;
   const fs::path path = directory.path() / "run.ckpt";
