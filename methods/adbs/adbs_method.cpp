@@ -8,6 +8,7 @@
 #include "methods/common/embedding.h"
 #include "methods/common/loss_parts.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/session_order.h"
 
 namespace fscil {
 
@@ -73,25 +74,15 @@ void AdbsMethod::train_base(const SessionData& base, RunContext& context) {
 // The reference keeps the base epoch that scores best on the test split (fscil_trainer.py
 // L86-L94), with the trained rows and |m_c|; here only under --selection, on what it names.
 void AdbsMethod::consider_epoch(BestEpoch& best, int epoch, RunContext& context) {
-  const SessionData* data = context.base_selection_data();
-  if (data == nullptr) return;
-  double score = 0;
-  {
-    torch::NoGradGuard no_grad;
-    const std::int64_t classes = context.base_classes;
-    const torch::Tensor logits = boundaries_->scale(classifier_->forward(embed_rows(data->features), classes), classes);
-    score = 100.0 * (logits.argmax(1) == data->labels).to(torch::kDouble).mean().item<double>();
-  }
-  context.training_log.back().values["selection_score"] = score;
-  best.consider("base", epoch, score);
+  const std::int64_t classes = context.base_classes;
+  consider_selection_score(best, "base", epoch, context, [&](const SessionData& data) {
+    return boundaries_->scale(classifier_->forward(embed_rows(data.features), classes), classes);
+  });
 }
 
 void AdbsMethod::learn_session(const SessionData& support, RunContext& context) {
   const std::int64_t seen = seen_classes_->value();
-  if (support.new_classes.front() != seen) {
-    throw MethodError(fmt::format("session {} starts at class {}, expected {}", support.session,
-                                  support.new_classes.front(), seen));
-  }
+  check_session_order(support, seen);
   const std::int64_t now = seen + static_cast<std::int64_t>(support.new_classes.size());
   const torch::Tensor embeddings = embed_in_batches(encoder_, support.features);
   classifier_->set_rows(seen, class_means(embeddings, support.labels, support.new_classes));

@@ -9,6 +9,7 @@
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/module_state.h"
+#include "methods/common/session_order.h"
 #include "methods/common/mixing.h"
 #include "methods/common/running_statistics_guard.h"
 #include "methods/common/supervised_training.h"
@@ -98,16 +99,9 @@ std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {
 }
 
 void PitsScMethod::consider_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context) {
-  const SessionData* data = context.base_selection_data();
-  if (data == nullptr) return;
-  double score = 0;
-  {
-    torch::NoGradGuard no_grad;
-    const torch::Tensor logits = classifier_->forward(embed_rows(data->features), context.base_classes, false);
-    score = 100.0 * (logits.argmax(1) == data->labels).to(torch::kDouble).mean().item<double>();
-  }
-  context.training_log.back().values["selection_score"] = score;
-  best.consider(stage, epoch, score);
+  consider_selection_score(best, stage, epoch, context, [&](const SessionData& data) {
+    return classifier_->forward(embed_rows(data.features), context.base_classes, false);
+  });
 }
 
 void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context) {
@@ -182,10 +176,7 @@ void PitsScMethod::record_row_alignment(RunContext& context, std::int64_t old_cl
 }
 
 void PitsScMethod::check_session_order(const SessionData& support) const {
-  if (support.new_classes.front() != seen_classes_) {
-    throw MethodError(fmt::format("session {} starts at class {}, expected {}", support.session,
-                                  support.new_classes.front(), seen_classes_));
-  }
+  fscil::check_session_order(support, seen_classes_);
 }
 
 void PitsScMethod::learn_session(const SessionData& support, RunContext& context) {

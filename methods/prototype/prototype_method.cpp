@@ -4,6 +4,7 @@
 
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/session_order.h"
 
 namespace fscil {
 
@@ -32,10 +33,7 @@ void PrototypeMethod::add_prototypes(const SessionData& data) {
   const torch::Tensor embeddings = embed_in_batches(encoder_, data.features);
   const torch::Tensor means = normalized_class_means(embeddings, data.labels, data.new_classes);
   const std::int64_t seen = seen_classes_->value();
-  if (data.new_classes.front() != seen) {
-    throw MethodError(fmt::format("session {} starts at class {}, expected {}", data.session, data.new_classes.front(),
-                                  seen));
-  }
+  check_session_order(data, seen);
   classifier_->set_rows(seen, means);
   seen_classes_->add(static_cast<std::int64_t>(data.new_classes.size()));
 }

@@ -26,7 +26,6 @@ std::string text_of(const json& value, const std::string& where) {
   throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
 }
 
-
 // Whether the command line gives `key` a value with `option` (`--set KEY=...`, `--grid=KEY=...`,
 // or a later word of `--set a=1 KEY=2`, which CLI11 reads as one --set): a --set value or a --grid
 // axis of the command line replaces the file's.
