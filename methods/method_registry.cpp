@@ -9,6 +9,7 @@
 #include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/method.h"
 #include "methods/orco/orco_method.h"
+#include "methods/pan/pan_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/prototype/prototype_method.h"
 
@@ -23,6 +24,7 @@ std::vector<MethodEntry>& registry() {
     for (MethodEntry& variant : cop_fscil_entries()) entries.push_back(std::move(variant));
     entries.push_back(orco_entry());
     entries.push_back(adbs_entry());
+    entries.push_back(pan_entry());
     return entries;
   }();
   return table;

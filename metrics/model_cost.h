@@ -14,7 +14,7 @@ struct MapShape {
 // Inference cost of one layer for one sample.
 struct LayerCost {
   std::string name;  // the module's path, e.g. "encoder.stages.2.conv1"
-  std::string kind;  // conv, linear, batch_norm, pool, reflections, cosine
+  std::string kind;  // conv, linear, batch_norm, pool, reflections, cosine, attention, layer_norm
   std::int64_t macs = 0;
   std::int64_t parameters = 0;
   std::int64_t trainable_parameters = 0;  // parameters incremental sessions still train
@@ -33,7 +33,11 @@ struct LayerCost {
 //   for global average pooling (thop: 0 for max pooling, window + 1 per output for average);
 // - Householder reflection x - 2 (v.x / v.v) v: 3 D per application (v.v, v.x and the update;
 //   thop cannot see them);
-// - cosine classifier: D to normalise the embedding plus D per seen class (rows normalised once).
+// - cosine classifier: D to normalise the embedding plus D per seen class (rows normalised once;
+//   rows that change with every sample, as after PAN's attention, add D per row);
+// - attention over T tokens of width D: 2 T^2 D (the scores and the weighted sum; its
+//   projections count as linear layers, once per token);
+// - layer norm: 1 per element, as batch norm.
 // ReLU, residual additions and the softmax are not counted (as in thop and ptflops).
 class ModelCost {
  public:

@@ -47,20 +47,26 @@ class BestEpoch {
   int kept_epoch_ = 0;
 };
 
-// Under a selection (RunContext::base_selection_data), scores the epoch just logged, `epoch` of
-// `stage`, by the top-1 accuracy of `logits_of(data)` on that data, records it as the epoch's
-// `selection_score` and lets `best` consider it; nothing when the last epoch is kept.
+// Scores the epoch just logged, `epoch` of `stage`, by the top-1 accuracy of `logits_of(data)` on
+// `data`, records it as the epoch's `selection_score` and lets `best` consider it.
 inline void consider_selection_score(BestEpoch& best, const std::string& stage, int epoch, RunContext& context,
+                                     const SessionData& data,
                                      const std::function<torch::Tensor(const SessionData&)>& logits_of) {
-  const SessionData* data = context.base_selection_data();
-  if (data == nullptr) return;
   double score = 0;
   {
     torch::NoGradGuard no_grad;
-    score = 100.0 * (logits_of(*data).argmax(1) == data->labels).to(torch::kDouble).mean().item<double>();
+    score = 100.0 * (logits_of(data).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
   }
   context.training_log.back().values["selection_score"] = score;
   best.consider(stage, epoch, score);
+}
+
+// The same on the run's selection data (RunContext::base_selection_data); nothing when the last
+// epoch is kept.
+inline void consider_selection_score(BestEpoch& best, const std::string& stage, int epoch, RunContext& context,
+                                     const std::function<torch::Tensor(const SessionData&)>& logits_of) {
+  const SessionData* data = context.base_selection_data();
+  if (data != nullptr) consider_selection_score(best, stage, epoch, context, *data, logits_of);
 }
 
 }  // namespace fscil

@@ -100,7 +100,9 @@ INSTANTIATE_TEST_SUITE_P(
               {"orco_session_patience", "4"}, {"orco_novel_ce_weight", "0.9"}, {"orco_base_ce_weight", "0.1"},
               {"orco_session_orthogonality", "all"}}},
         Case{"adbs", {{"pretrain_epochs", "1"}, {"batch_size", "32"}},
-             {{"adbs_session_steps", "3"}, {"adbs_session_lr", "0.05"}}}),
+             {{"adbs_session_steps", "3"}, {"adbs_session_lr", "0.05"}}},
+        Case{"pan", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"}},
+             {{"pan_session_steps", "3"}, {"pan_session_lr", "0.05"}}}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.method;
       std::replace(name.begin(), name.end(), '-', '_');

@@ -1,0 +1,234 @@
+#include "methods/pan/pan_method.h"
+
+#include <fmt/format.h>
+
+#include <numeric>
+
+#include "core/stop_request.h"
+#include "methods/common/best_epoch.h"
+#include "methods/common/embedding.h"
+#include "methods/common/module_cost.h"
+#include "methods/common/session_order.h"
+#include "methods/common/supervised_training.h"
+#include "methods/pan/attention_prototypes.h"
+#include "methods/pan/new_row_finetune.h"
+#include "methods/pan/pan_episode.h"
+#include "methods/pan/prototype_query_attention.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+namespace {
+
+// The samples of classes [0, classes) of `data`, labels unchanged.
+SessionData first_classes(const SessionData& data, std::int64_t classes) {
+  const torch::Tensor index = torch::nonzero(data.labels < classes).view(-1);
+  SessionData subset;
+  subset.session = data.session;
+  const SampleRows& rows = data.features;
+  subset.features = SampleRows(index.size(0), [rows, index](const torch::Tensor& local) {
+    return rows.gather(index.index_select(0, local));
+  });
+  subset.labels = data.labels.index_select(0, index);
+  for (std::int64_t c = 0; c < classes; ++c) subset.new_classes.push_back(c);
+  return subset;
+}
+
+}  // namespace
+
+PanMethod::PanMethod(const ParameterSet& params) : settings_(PanSettings::from(params)) {}
+
+NamedModules PanMethod::build(const RunContext& context) {
+  encoder_ = ResNet18Encoder(encoder_options(context));
+  const std::int64_t dim = encoder_->embedding_size();
+  classifier_ = CosineClassifier(context.total_classes, dim, settings_.temperature);
+  attention_ = PanAttention(dim);
+  prototype_attention_ = PanAttention(dim);
+  seen_classes_ = ClassCount();
+  return {{"encoder", encoder_.ptr()},
+          {"classifier", classifier_.ptr()},
+          {"attention", attention_.ptr()},
+          {"seen_classes", seen_classes_.ptr()}};
+}
+
+// The release's optimisers take encoder.parameters(), and its bn0 belongs to the model around the
+// encoder (Network.py L151, L209): bn0's scale and shift are never trained. Ours is inside.
+std::vector<torch::Tensor> PanMethod::encoder_parameters() const {
+  std::vector<torch::Tensor> parameters;
+  for (const auto& item : encoder_->named_parameters()) {
+    if (item.key().rfind("bn0.", 0) != 0) parameters.push_back(item.value());
+  }
+  return parameters;
+}
+
+void PanMethod::train_base(const SessionData& base, RunContext& context) {
+  build_modules(context);
+  const std::int64_t classes = context.base_classes;
+  if (classes > encoder_->embedding_size()) {
+    throw MethodError(fmt::format("pan scores its standard training on the first {} embedding channels, and the "
+                                  "embedding has {}",
+                                  classes, encoder_->embedding_size()));
+  }
+  const std::int64_t temporary_base = temporary_base_classes(classes, settings_.temporary_base);
+  context.diagnostics["temporary_base_classes"] = static_cast<double>(temporary_base);
+  train_standard(first_classes(base, temporary_base), temporary_base, "temporary_standard", context);
+  train_pseudo_incremental(base, temporary_base, context);
+  train_standard(base, classes, "standard", context);
+  std::vector<std::int64_t> base_classes(classes);
+  std::iota(base_classes.begin(), base_classes.end(), 0);
+  // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
+  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, base_classes));
+  seen_classes_->add(classes);
+  if (context.validation != nullptr) {
+    const double accuracy = accuracy_on(*context.validation);
+    context.diagnostics["base_validation"] = accuracy;
+    if (context.progress != nullptr) context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy));
+  }
+}
+
+// Stages (a) and (c) (standard_train_helper.py L10-L56 at 9f784713): the encoder alone, in train
+// mode, on CE over the first `classes` channels of its embedding; under a selection, each stage
+// keeps its best epoch scored the same way (fscil_trainer.py L152-L158: on test, in the release).
+void PanMethod::train_standard(const SessionData& data, std::int64_t classes, const std::string& stage,
+                               RunContext& context) {
+  encoder_->train();
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    return F::cross_entropy(encoder_->forward(features).slice(1, 0, classes), labels);
+  };
+  BestEpoch best({encoder_.get()});
+  const SessionData* selection = context.base_selection_data();
+  const SessionData scored = selection != nullptr ? first_classes(*selection, classes) : SessionData{};
+  train_epochs(encoder_parameters(), loss, data, settings_.standard, context, stage, [&](int epoch) {
+    if (selection == nullptr) return;
+    consider_selection_score(best, stage, epoch, context, scored, [&](const SessionData& scored_data) {
+      return embed_rows(scored_data.features).slice(1, 0, classes);
+    });
+  });
+  best.restore(context, stage);
+}
+
+// Stage (b) (incremental_train_helper.py L10-L89, fscil_trainer.py L191-L229 at 3ddc7af7): in eval
+// mode, as the release runs it (L206), so BatchNorm keeps its statistics.
+void PanMethod::train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context) {
+  if (settings_.pit_epochs == 0) return;
+  const PanEpisodeSampler sampler(base, temporary_base, context.base_classes, settings_.way, settings_.shot,
+                                  settings_.query);
+  const auto group = [&](std::vector<torch::Tensor> parameters, double learning_rate) {
+    return torch::optim::OptimizerParamGroup(
+        std::move(parameters), std::make_unique<torch::optim::SGDOptions>(torch::optim::SGDOptions(learning_rate)
+                                                                              .momentum(settings_.standard.momentum)
+                                                                              .nesterov(true)
+                                                                              .weight_decay(settings_.standard.weight_decay)));
+  };
+  std::vector<torch::optim::OptimizerParamGroup> groups;
+  groups.push_back(group(encoder_parameters(), settings_.encoder_lr));
+  groups.push_back(group(attention_->parameters(), settings_.attention_lr));
+  torch::optim::SGD optimizer(std::move(groups), torch::optim::SGDOptions(settings_.encoder_lr));
+  encoder_->eval();  // the attentions have no dropout (the release runs them in eval mode only)
+  for (int epoch = 0; epoch < settings_.pit_epochs; ++epoch) {
+    double loss_sum = 0;
+    for (int e = 0; e < settings_.pit_episodes; ++e) {
+      const PanEpisode episode = sampler.draw(context.generator);
+      const std::int64_t way = episode.way, shot = episode.shot, query = episode.query;
+      const torch::Tensor base_embedding = encoder_->forward(episode.base_features);
+      const torch::Tensor novel_embedding = encoder_->forward(episode.novel_features);
+      const std::int64_t dim = base_embedding.size(1), supports = shot * way;
+      const auto part_means = [&](const torch::Tensor& part) {
+        return part.slice(0, 0, supports).view({shot, way, dim}).mean(0);
+      };
+      const torch::Tensor means = torch::cat({part_means(base_embedding), part_means(novel_embedding)});
+      // Query q of slot c of either part: row q x 2 way + c, labels the slots (incremental_train_helper.py L32, L73-L81).
+      const torch::Tensor queries = torch::cat({base_embedding.slice(0, supports).view({query, way, dim}),
+                                                novel_embedding.slice(0, supports).view({query, way, dim})},
+                                               1)
+                                        .reshape({query * 2 * way, dim});
+      const torch::Tensor labels = torch::arange(2 * way).repeat({query});
+      torch::Tensor replaced;
+      {
+        torch::NoGradGuard no_grad;  // its output reaches the loss through .data only (Network.py L64-L69)
+        const torch::Tensor support_rows =
+            torch::cat({base_embedding.slice(0, 0, supports), novel_embedding.slice(0, 0, supports)});
+        replaced = attention_prototypes(prototype_attention_, support_rows, queries, shot);
+      }
+      const torch::Tensor prototypes =
+          straight_through(means.unsqueeze(0).expand({queries.size(0), 2 * way, dim}), replaced);
+      const torch::Tensor loss =
+          F::cross_entropy(pqa_logits(attention_, prototypes, queries, settings_.temperature), labels);
+      optimizer.zero_grad();
+      loss.backward();
+      optimizer.step();
+      stop_if_requested();
+      loss_sum += loss.item<double>();
+    }
+    context.log_epoch("pseudo-incremental", epoch + 1, settings_.pit_epochs,
+                      {{"loss", loss_sum / settings_.pit_episodes}, {"lr", settings_.encoder_lr}});
+  }
+}
+
+void PanMethod::learn_session(const SessionData& support, RunContext& context) {
+  const std::int64_t seen = seen_classes_->value();
+  check_session_order(support, seen);
+  const torch::Tensor embeddings = embed_in_batches(encoder_, support.features);
+  const torch::Tensor means = class_means(embeddings, support.labels, support.new_classes);
+  const torch::Tensor old_rows = classifier_->weight().slice(0, 0, seen).detach();
+  const torch::Tensor rows =
+      finetune_new_rows(embeddings, support.labels, old_rows, means, settings_.temperature, settings_.session_steps,
+                        settings_.session_lr, [&](int step, double loss) {
+                          context.log_epoch("session", step, settings_.session_steps, {{"loss", loss}});
+                        });
+  classifier_->set_rows(seen, rows);
+  seen_classes_->add(static_cast<std::int64_t>(support.new_classes.size()));
+}
+
+torch::Tensor PanMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
+
+// Every sample attends with all seen rows (fscil_trainer.py L256-L275); no attention prototypes at
+// test (the config's ap_on_test is never read).
+torch::Tensor PanMethod::classify(const torch::Tensor& embeddings) {
+  torch::NoGradGuard no_grad;
+  const std::int64_t seen = seen_classes_->value();
+  return pqa_logits(attention_, classifier_->weight().slice(0, 0, seen), embeddings, settings_.temperature);
+}
+
+ModelCost PanMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost;
+  encoder_->count_cost(cost, "encoder", input.feature_map());
+  const std::int64_t seen = seen_classes_->value(), dim = encoder_->embedding_size(), tokens = seen + 1;
+  // PQA on the seen rows and the sample: four D x D projections of every token, the scores and
+  // their weighted sum, a LayerNorm of every token, then the cosine logits.
+  for (const auto& [name, linear] : {std::pair{"query", attention_->query}, {"key", attention_->key},
+                                     {"value", attention_->value}, {"out", attention_->out}}) {
+    LayerCost layer = layer_with_parameters(std::string("attention.") + name, "linear", linear->parameters());
+    layer.macs = tokens * linear_macs(dim, dim);
+    cost.add(std::move(layer));
+  }
+  LayerCost scores{"attention.scores", "attention"};
+  scores.macs = 2 * tokens * tokens * dim;
+  cost.add(std::move(scores));
+  LayerCost norm = layer_with_parameters("attention.norm", "layer_norm", attention_->norm->parameters());
+  norm.macs = tokens * dim;
+  cost.add(std::move(norm));
+  count_cosine_classifier(cost, "classifier", dim, seen, classifier_->parameters());
+  LayerCost row_norms{"classifier.row_norms", "cosine"};  // the rows leave PQA changed by each sample
+  row_norms.macs = seen * dim;
+  cost.add(std::move(row_norms));
+  cost.freeze("encoder");
+  cost.freeze("attention");  // sessions fine-tune the new rows only
+  return cost;
+}
+
+MethodEntry pan_entry() {
+  MethodEntry entry{"pan",
+                    "PAN: encoder trained on its own first channels, pseudo-incremental episodes whose prototypes "
+                    "attend with each query (PQA), class-mean rows fine-tuned per session, PQA at test",
+                    [](const ParameterSet& params) { return std::make_unique<PanMethod>(params); }};
+  // Stages (a) and (c) both run the shared pretraining schedule, (b) its own epochs.
+  entry.base_epoch_keys = {"pretrain_epochs", "pretrain_epochs", "pan_pit_epochs"};
+  entry.profile_defaults = pretraining_profiles({{"smoke", {{"pan_pit_episodes", "4"}}}});
+  entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
+  entry.session_only_parameters = {"pan_session_steps", "pan_session_lr"};
+  return entry;
+}
+
+}  // namespace fscil

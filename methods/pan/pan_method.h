@@ -1,0 +1,54 @@
+#pragma once
+#include <memory>
+#include <string>
+
+#include "methods/common/class_count.h"
+#include "methods/common/cosine_classifier.h"
+#include "methods/common/resnet18.h"
+#include "methods/method_registry.h"
+#include "methods/module_method.h"
+#include "methods/pan/pan_attention.h"
+#include "methods/pan/pan_settings.h"
+
+namespace fscil {
+
+// PAN, self-attention modified prototypes (Li et al., IEEE TMM 2024; vinceasvp/FCAC, "STDU"), on the
+// shared encoder. The base session has three stages (models/STDU/fscil_trainer.py L111-L128 at
+// 3ddc7af7):
+// (a) "standard" training of the encoder alone on the temporary base classes, the cross-entropy
+//     taken over the first channels of the embedding itself (no head);
+// (b) pseudo-incremental episodes (temporary base + temporary novel classes) in eval mode, whose
+//     prototypes pass with each query through a self-attention (PQA) before cosine scoring;
+// (c) standard training again on every base class; the base rows become class means.
+// Each session adds the shots' means as rows and fine-tunes the new rows only; every test sample
+// is scored by PQA against all seen rows.
+class PanMethod : public ModuleMethod {
+ public:
+  explicit PanMethod(const ParameterSet& params);
+  void train_base(const SessionData& base, RunContext& context) override;
+  void learn_session(const SessionData& support, RunContext& context) override;
+  torch::Tensor embed(const torch::Tensor& features) override;
+  torch::Tensor classify(const torch::Tensor& embeddings) override;
+  ModelCost inference_cost(const InputShape& input) const override;
+
+ protected:
+  NamedModules build(const RunContext& context) override;
+
+ private:
+  void train_standard(const SessionData& base, std::int64_t classes, const std::string& stage, RunContext& context);
+  void train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context);
+  std::vector<torch::Tensor> encoder_parameters() const;
+
+  PanSettings settings_;
+  ResNet18Encoder encoder_{nullptr};
+  CosineClassifier classifier_{nullptr};  // the rows: class means, then the sessions' rows
+  PanAttention attention_{nullptr};       // PQA (`slf_attn`)
+  // The attention prototypes' module (`transatt_proto`): used in episodes only and never trained
+  // (the release writes its output through `.data`), so not part of the model's state.
+  PanAttention prototype_attention_{nullptr};
+  ClassCount seen_classes_{nullptr};
+};
+
+MethodEntry pan_entry();
+
+}  // namespace fscil
