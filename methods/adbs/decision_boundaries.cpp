@@ -1,5 +1,7 @@
 #include "methods/adbs/decision_boundaries.h"
 
+#include "methods/common/damped_momentum_steps.h"
+
 namespace fscil {
 
 namespace F = torch::nn::functional;
@@ -20,17 +22,19 @@ torch::Tensor train_new_margins(const torch::Tensor& cosine_logits, const torch:
   const torch::Tensor fixed_logits = cosine_logits.detach();
   const torch::Tensor fixed_old = old_margins.detach();
   const torch::Tensor fixed_rows = rows.detach();
-  torch::optim::SGD optimizer({trained}, torch::optim::SGDOptions(update.learning_rate).momentum(0.9).dampening(0.9));
-  for (int step = 0; step < update.steps; ++step) {
-    const torch::Tensor margins = torch::cat({fixed_old, trained});
-    const torch::Tensor cross_entropy = F::cross_entropy(fixed_logits * margins, labels);
-    const torch::Tensor constraint = update.constraint_weight * inter_class_constraint(margins, fixed_rows);
-    const torch::Tensor loss = cross_entropy + constraint;
-    optimizer.zero_grad();
-    loss.backward();
-    optimizer.step();
-    if (after_step) after_step(step + 1, cross_entropy.item<double>(), constraint.item<double>());
-  }
+  torch::Tensor cross_entropy, constraint;
+  damped_momentum_steps(
+      {trained}, update.steps, update.learning_rate,
+      [&] {
+        const torch::Tensor margins = torch::cat({fixed_old, trained});
+        cross_entropy = F::cross_entropy(fixed_logits * margins, labels);
+        constraint = update.constraint_weight * inter_class_constraint(margins, fixed_rows);
+        return cross_entropy + constraint;
+      },
+      "session margin update",
+      [&](int step, double) {
+        if (after_step) after_step(step, cross_entropy.item<double>(), constraint.item<double>());
+      });
   return trained.detach();
 }
 

@@ -1,5 +1,7 @@
 #include "methods/pan/new_row_finetune.h"
 
+#include "methods/common/damped_momentum_steps.h"
+
 namespace fscil {
 
 namespace F = torch::nn::functional;
@@ -10,15 +12,13 @@ torch::Tensor finetune_new_rows(const torch::Tensor& shots, const torch::Tensor&
   torch::Tensor trained = new_rows.detach().clone().set_requires_grad(true);
   const torch::Tensor fixed = old_rows.detach();
   const torch::Tensor unit_shots = F::normalize(shots.detach(), F::NormalizeFuncOptions().dim(-1));
-  torch::optim::SGD optimizer({trained}, torch::optim::SGDOptions(learning_rate).momentum(0.9).dampening(0.9));
-  for (int step = 0; step < steps; ++step) {
-    const torch::Tensor rows = F::normalize(torch::cat({fixed, trained}), F::NormalizeFuncOptions().dim(-1));
-    const torch::Tensor loss = F::cross_entropy(temperature * unit_shots.matmul(rows.t()), labels);
-    optimizer.zero_grad();
-    loss.backward();
-    optimizer.step();
-    if (after_step) after_step(step + 1, loss.item<double>());
-  }
+  damped_momentum_steps(
+      {trained}, steps, learning_rate,
+      [&] {
+        const torch::Tensor rows = F::normalize(torch::cat({fixed, trained}), F::NormalizeFuncOptions().dim(-1));
+        return F::cross_entropy(temperature * unit_shots.matmul(rows.t()), labels);
+      },
+      "session fine-tuning", after_step);
   return trained.detach();
 }
 

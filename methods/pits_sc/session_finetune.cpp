@@ -1,12 +1,6 @@
 #include "methods/pits_sc/session_finetune.h"
 
-#include <fmt/format.h>
-
-#include <cmath>
-
-#include "core/error.h"
-#include "methods/diverged_training.h"
-#include "core/stop_request.h"
+#include "methods/common/damped_momentum_steps.h"
 
 namespace fscil {
 
@@ -14,22 +8,9 @@ namespace F = torch::nn::functional;
 
 double finetune_classifier_rows(StochasticClassifier& classifier, const SessionFinetuneSettings& settings,
                                 const std::function<torch::Tensor()>& loss) {
-  torch::optim::SGD optimizer({classifier->mu, classifier->sigma},
-                              torch::optim::SGDOptions(settings.learning_rate).momentum(0.9).dampening(0.9));
   classifier->train();
-  double last = 0;
-  for (int step = 0; step < settings.steps; ++step) {
-    const torch::Tensor value = loss();
-    optimizer.zero_grad();
-    value.backward();
-    optimizer.step();
-    stop_if_requested();
-    last = value.item<double>();
-    if (!std::isfinite(last)) {
-      throw MethodError(diverged_training(fmt::format("session fine-tuning step {} of {}", step + 1, settings.steps),
-                                          {{"loss", last}, {"lr", settings.learning_rate}}));
-    }
-  }
+  const double last = damped_momentum_steps({classifier->mu, classifier->sigma}, settings.steps,
+                                            settings.learning_rate, loss, "session fine-tuning");
   classifier->eval();
   return last;
 }
