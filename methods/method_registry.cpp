@@ -7,6 +7,7 @@
 
 #include "methods/adbs/adbs_method.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
+#include "methods/dsn/dsn_method.h"
 #include "methods/method.h"
 #include "methods/orco/orco_method.h"
 #include "methods/pan/pan_method.h"
@@ -25,6 +26,7 @@ std::vector<MethodEntry>& registry() {
     entries.push_back(orco_entry());
     entries.push_back(adbs_entry());
     entries.push_back(pan_entry());
+    entries.push_back(dsn_entry());
     return entries;
   }();
   return table;

@@ -1,9 +1,8 @@
 #include "methods/adbs/adbs_method.h"
 
-#include <fmt/format.h>
-
 #include <numeric>
 
+#include "methods/common/base_validation.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/loss_parts.h"
@@ -64,11 +63,7 @@ void AdbsMethod::train_base(const SessionData& base, RunContext& context) {
   classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, base_classes));
   seen_classes_->add(classes);
   record_margins(context);
-  if (context.validation != nullptr) {
-    const double accuracy = accuracy_on(*context.validation);
-    context.diagnostics["base_validation"] = accuracy;
-    if (context.progress != nullptr) context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy));
-  }
+  record_base_validation(*this, context);
 }
 
 // The reference keeps the base epoch that scores best on the test split (fscil_trainer.py

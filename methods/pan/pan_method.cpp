@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "core/stop_request.h"
+#include "methods/common/base_validation.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
@@ -80,11 +81,7 @@ void PanMethod::train_base(const SessionData& base, RunContext& context) {
   // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
   classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, base_classes));
   seen_classes_->add(classes);
-  if (context.validation != nullptr) {
-    const double accuracy = accuracy_on(*context.validation);
-    context.diagnostics["base_validation"] = accuracy;
-    if (context.progress != nullptr) context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy));
-  }
+  record_base_validation(*this, context);
 }
 
 // Stages (a) and (c) (standard_train_helper.py L10-L56 at 9f784713): the encoder alone, in train

@@ -102,7 +102,11 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"adbs", {{"pretrain_epochs", "1"}, {"batch_size", "32"}},
              {{"adbs_session_steps", "3"}, {"adbs_session_lr", "0.05"}}},
         Case{"pan", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"}},
-             {{"pan_session_steps", "3"}, {"pan_session_lr", "0.05"}}}),
+             {{"pan_session_steps", "3"}, {"pan_session_lr", "0.05"}}},
+        Case{"dsn", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"dsn_session_epochs", "3"}},
+             {{"dsn_gamma", "0.5"}, {"dsn_session_epochs", "2"}, {"dsn_session_lr", "0.05"}, {"dsn_session_batch", "64"},
+              {"dsn_refresh_every", "1"}, {"dsn_new_samples", "3"}, {"dsn_old_samples", "3"}, {"dsn_base_samples", "3"},
+              {"dsn_sample_k", "2"}, {"dsn_top_k", "1"}}}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.method;
       std::replace(name.begin(), name.end(), '-', '_');

@@ -1,0 +1,264 @@
+#include "methods/dsn/dsn_method.h"
+
+#include <fmt/format.h>
+
+#include <numeric>
+
+#include "core/seeded_shuffle.h"
+#include "methods/common/base_validation.h"
+#include "methods/common/best_epoch.h"
+#include "methods/common/embedding.h"
+#include "methods/common/session_order.h"
+#include "methods/dsn/session_loss.h"
+#include "methods/dsn/shot_confusion.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+namespace {
+
+// Mean and covariance (np.cov, N - 1) of each class's rows, in the order of `classes`
+// (Inc_train.py L165-L172 for the base classes, L192-L197 for a session's shots).
+std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                                          const std::vector<std::int64_t>& classes) {
+  std::vector<torch::Tensor> covariances;
+  for (std::int64_t c : classes) {
+    covariances.push_back(sample_covariance(embeddings.index_select(0, torch::nonzero(labels == c).view(-1))));
+  }
+  return {class_means(embeddings, labels, classes), torch::stack(covariances)};
+}
+
+std::vector<std::int64_t> class_range(std::int64_t first, std::int64_t end) {
+  std::vector<std::int64_t> classes(end - first);
+  std::iota(classes.begin(), classes.end(), first);
+  return classes;
+}
+
+}  // namespace
+
+DsnMethod::DsnMethod(const ParameterSet& params) : settings_(DsnSettings::from(params)) {}
+
+NamedModules DsnMethod::build(const RunContext& context) {
+  encoder_ = ResNet18Encoder(encoder_options(context));
+  const std::int64_t dim = encoder_->embedding_size(), nodes = settings_.nodes > 0 ? settings_.nodes : dim;
+  head_ = DsnHead(dim, nodes, context.base_classes);
+  supports_ = SessionSupports();
+  for (std::int64_t classes : sessions_to_build_) {
+    supports_->add_session(torch::zeros({nodes, dim}), torch::zeros({classes, nodes}));
+  }
+  gaussians_ = ClassGaussians(context.total_classes, dim);
+  seen_classes_ = ClassCount();
+  return {{"encoder", encoder_.ptr()},
+          {"head", head_.ptr()},
+          {"supports", supports_.ptr(), true},
+          {"gaussians", gaussians_.ptr()},
+          {"seen_classes", seen_classes_.ptr()}};
+}
+
+// A checkpoint after session s holds s support branches: they are built before the state is read.
+void DsnMethod::restore_state(const MethodState& state, RunContext& context) {
+  sessions_to_build_.clear();
+  for (int s = 1; state.count(fmt::format("supports.head{}", s)) > 0; ++s) {
+    sessions_to_build_.push_back(state.at(fmt::format("supports.head{}", s)).size(0));
+  }
+  ModuleMethod::restore_state(state, context);
+  sessions_to_build_.clear();
+}
+
+void DsnMethod::train_base(const SessionData& base, RunContext& context) {
+  sessions_to_build_.clear();
+  build_modules(context);
+  const std::int64_t classes = context.base_classes;
+  // One SGD over the encoder, fc1 and the base rows (train.py L58): the shared schedule.
+  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  for (const auto& parameter : head_->parameters()) parameters.push_back(parameter);
+  encoder_->train();
+  head_->train();
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    return F::cross_entropy(settings_.temperature * head_->base_cosines(head_->project(encoder_->forward(features))),
+                            labels);
+  };
+  // The release keeps the base epoch with the best test accuracy (train.py L90-L96): --selection.
+  BestEpoch best({encoder_.get(), head_.get()});
+  train_epochs(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
+    consider_selection_score(best, "base", epoch, context, [&](const SessionData& data) {
+      return head_->base_cosines(head_->project(embed_rows(data.features)));
+    });
+  });
+  best.restore(context, "base");
+  // One pass over the base training set keeps every base class's Gaussian (Inc_train.py L153-L175).
+  const torch::Tensor embeddings = embed_in_batches(encoder_, base.features);
+  const auto [means, covariances] = class_statistics(embeddings, base.labels, class_range(0, classes));
+  gaussians_->insert(0, means, covariances);
+  seen_classes_->add(classes);
+  record_base_validation(*this, context);
+}
+
+void DsnMethod::learn_session(const SessionData& support, RunContext& context) {
+  const std::int64_t seen = seen_classes_->value();
+  check_session_order(support, seen);
+  const torch::Tensor shots = embed_in_batches(encoder_, support.features);
+  const auto [means, covariances] = class_statistics(shots, support.labels, support.new_classes);
+  // The session's support branch starts as fc1, its head rows as the shots' projected means
+  // (Inc_train.py L206-L215); its gate at zero.
+  {
+    torch::NoGradGuard no_grad;
+    supports_->add_session(head_->projection_weight(), dsn_l2_norm(head_->fc1->forward(means)));
+  }
+  gaussians_->insert(seen, means, covariances);
+  train_session(shots, support.labels, seen, means, covariances, context);
+  seen_classes_->add(static_cast<std::int64_t>(support.new_classes.size()));
+}
+
+// The session's epochs (Inc_train.py L277-L388). Everything but the newest branch and head is
+// frozen (the "part" optimiser, L269-L271), so the network before the session, the distillation
+// teacher (L265-L267, L337-L338), scores the old classes exactly as this one does: its logits are
+// this network's old columns, detached.
+void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& shot_labels, std::int64_t first,
+                              const torch::Tensor& shot_means, const torch::Tensor& shot_covariances,
+                              RunContext& context) {
+  const int session = supports_->sessions();
+  const std::int64_t classes = supports_->classes_of(session), seen = first + classes, base = context.base_classes;
+  for (auto& parameter : head_->parameters()) parameter.set_requires_grad(false);
+  for (auto& parameter : supports_->parameters()) parameter.set_requires_grad(false);
+  const std::vector<torch::Tensor> trained{supports_->head(session), supports_->branch(session)};
+  for (auto tensor : trained) tensor.set_requires_grad(true);
+  torch::optim::SGD optimizer(trained, torch::optim::SGDOptions(settings_.session_lr).momentum(0.9).dampening(0.5));
+  const DrawCounts counts{settings_.new_samples, settings_.base_samples, settings_.old_samples, settings_.sample_k};
+  // Under test-oracle, the epoch with the best accuracy on every seen class's test samples
+  // (test_continue, L369-L388; ties to the later epoch); otherwise the last epoch (ours).
+  torch::Tensor oracle, oracle_labels;
+  if (context.selection == EpochSelection::test_oracle) {
+    oracle = embed_in_batches(encoder_, context.oracle_test->features);
+    oracle_labels = context.oracle_test->labels;
+  }
+  BestEpoch best({supports_.get()});
+  int kept_epoch = -1;
+  // `working`: the release's memory_mean / memory_cov, the shots' statistics re-estimated every
+  // refresh_every epochs (without augmentation, ours, the same each time) and calibrated after each
+  // epoch on top of the last calibration. `kept`: best_mean / best_cov. The release keeps a
+  // reference to the dict, so the calibrations after the kept epoch reach best_cov until the next
+  // re-estimation makes a new dict (L279, L354, L386).
+  torch::Tensor working_means, working_covariances, kept_means, kept_covariances;
+  torch::Tensor features, labels, real;
+  for (int epoch = 0; epoch < settings_.session_epochs; ++epoch) {
+    if (epoch % settings_.refresh_every == 0) {
+      working_means = shot_means.clone();
+      working_covariances = shot_covariances.clone();
+      gaussians_->blend(first, working_means, working_covariances);  // L279 -> L204
+      const GaussianDraws draws = gaussians_->draw(seen, base, first, counts);  // L280-L286
+      features = torch::cat({draws.features, shots});
+      labels = torch::cat({draws.labels, shot_labels});
+      real = torch::cat({torch::zeros({draws.labels.size(0)}, torch::kBool), torch::ones({shots.size(0)}, torch::kBool)});
+    }
+    std::vector<std::int64_t> order(static_cast<std::size_t>(features.size(0)));
+    std::iota(order.begin(), order.end(), 0);
+    shuffle_with(order, context.generator);
+    ShotConfusion confusion(base, first, classes);
+    double cross_entropy = 0, distillation = 0, compression = 0;
+    int steps = 0;
+    for (std::size_t start = 0; start < order.size(); start += static_cast<std::size_t>(settings_.session_batch)) {
+      const std::size_t end = std::min(order.size(), start + static_cast<std::size_t>(settings_.session_batch));
+      const torch::Tensor rows = torch::tensor(std::vector<std::int64_t>(order.begin() + start, order.begin() + end));
+      const torch::Tensor batch_labels = labels.index_select(0, rows), is_new = batch_labels >= first;
+      const torch::Tensor old_rows = rows.index({~is_new}), new_rows = rows.index({is_new});
+      // Old classes' rows (drawn) pass with the stored gate, the previous step's (L329-L335); the
+      // session's rows (its shots and draws) set the training gate from their batch mean (L326-L328).
+      std::vector<torch::Tensor> outputs{cosines(features.index_select(0, old_rows))};
+      torch::Tensor gate, new_output;
+      if (new_rows.size(0) > 0) {
+        const torch::Tensor new_features = features.index_select(0, new_rows);
+        gate = training_gate(supports_->branch_cosines(session, new_features), epoch);
+        new_output = cosines(new_features, gate);
+        outputs.push_back(new_output);
+      }
+      const torch::Tensor output = torch::cat(outputs);
+      const torch::Tensor output_labels = torch::cat({labels.index_select(0, old_rows), labels.index_select(0, new_rows)});
+      const DsnSessionLoss loss =
+          dsn_session_loss(output, output_labels, output.slice(1, 0, first).detach(), gate, settings_.temperature);
+      optimizer.zero_grad();
+      loss.total().backward();
+      optimizer.step();
+      if (gate.defined()) {
+        torch::NoGradGuard no_grad;
+        supports_->gate(session).copy_(gate.detach());  // finish_train, L344 -> DSN.py L83-L84
+        const torch::Tensor shot_rows = real.index_select(0, new_rows);
+        confusion.record(new_output.detach().index({shot_rows}), labels.index_select(0, new_rows).index({shot_rows}));
+      }
+      cross_entropy += loss.cross_entropy.item<double>();
+      distillation += loss.distillation.item<double>();
+      compression += loss.compression.item<double>();
+      ++steps;
+    }
+    {
+      // After the epoch: calibrate the session's covariances with the base ones, blend them into
+      // the Gaussians, give confused old classes one more draw (L352-L357).
+      torch::NoGradGuard no_grad;
+      const torch::Tensor base_covariances = gaussians_->covariances().slice(0, 0, base);
+      std::vector<torch::Tensor> calibrated;
+      for (std::int64_t c = 0; c < classes; ++c) {
+        calibrated.push_back(calibrated_covariance(working_covariances[c], confusion.base_weights(c), base_covariances));
+      }
+      working_covariances.copy_(torch::stack(calibrated));
+      gaussians_->blend(first, working_means, working_covariances);
+      for (std::int64_t c = 0; c < classes; ++c) {
+        for (std::int64_t old : confused_old_classes(confusion.old_weights(c), settings_.top_k)) gaussians_->add_draw(old);
+      }
+      if (kept_epoch >= 0 && kept_epoch / settings_.refresh_every == epoch / settings_.refresh_every) {
+        kept_covariances = working_covariances.clone();
+      }
+    }
+    const double n = std::max(steps, 1);
+    context.log_epoch("session", epoch + 1, settings_.session_epochs,
+                      {{"loss", (cross_entropy + distillation + compression) / n},
+                       {"ce", cross_entropy / n},
+                       {"kd", distillation / n},
+                       {"compression", compression / n},
+                       {"gate_mean", supports_->gate(session).mean().item<double>()}});
+    if (oracle.defined()) {
+      torch::NoGradGuard no_grad;
+      const double score = 100.0 * (cosines(oracle).argmax(1) == oracle_labels).to(torch::kDouble).mean().item<double>();
+      context.training_log.back().values["selection_score"] = score;
+      if (best.consider("session", epoch + 1, score)) {
+        kept_epoch = epoch;
+        kept_means = working_means.clone();
+        kept_covariances = working_covariances.clone();
+      }
+    }
+  }
+  best.restore(context, "session");
+  if (kept_epoch < 0) kept_means = working_means, kept_covariances = working_covariances;
+  if (kept_means.defined()) gaussians_->blend(first, kept_means, kept_covariances);  // L398
+  context.diagnostics["session_gate_mean"] = supports_->gate(session).mean().item<double>();
+}
+
+torch::Tensor DsnMethod::cosines(const torch::Tensor& embeddings, const torch::Tensor& newest_gate) const {
+  return dsn_cosines(*head_, *supports_, embeddings, settings_.gamma, supports_->sessions(), newest_gate);
+}
+
+torch::Tensor DsnMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
+
+// Every seen class's cosine with each session's stored gate (Inc_train.py L78-L97), scaled by the
+// temperature as in training.
+torch::Tensor DsnMethod::classify(const torch::Tensor& embeddings) {
+  torch::NoGradGuard no_grad;
+  return settings_.temperature * cosines(embeddings);
+}
+
+MethodEntry dsn_entry() {
+  MethodEntry entry{"dsn",
+                    "DSN: cosine head on a projection fc1; sessions add a gated support branch and a head, trained on "
+                    "the shots and on features drawn from every seen class's Gaussian, with distillation",
+                    [](const ParameterSet& params) { return std::make_unique<DsnMethod>(params); }};
+  entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.profile_defaults = pretraining_profiles();
+  entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
+  entry.session_only_parameters = {"dsn_gamma",       "dsn_session_epochs", "dsn_session_lr",
+                                   "dsn_session_batch", "dsn_refresh_every", "dsn_new_samples",
+                                   "dsn_old_samples", "dsn_base_samples",  "dsn_sample_k",
+                                   "dsn_top_k"};
+  return entry;
+}
+
+}  // namespace fscil
