@@ -30,7 +30,6 @@ GaussianDraws ClassGaussiansImpl::draw(std::int64_t seen, std::int64_t base_clas
                                        const DrawCounts& counts) {
   std::vector<torch::Tensor> features;
   std::vector<std::int64_t> labels;
-  std::vector<bool> current;
   auto* extra = extra_draws_.data_ptr<std::int64_t>();
   for (std::int64_t c = 0; c < seen; ++c) {
     const bool in_session = c >= current_first;
@@ -42,12 +41,10 @@ GaussianDraws ClassGaussiansImpl::draw(std::int64_t seen, std::int64_t base_clas
     const torch::Tensor z = torch::randn({n, factors_[c].size(1)}, torch::kDouble);
     features.push_back((means_[c].to(torch::kDouble) + z.matmul(factors_[c].t())).to(torch::kFloat));
     labels.insert(labels.end(), n, c);
-    current.insert(current.end(), n, in_session);
   }
   GaussianDraws draws;
   draws.features = features.empty() ? torch::zeros({0, means_.size(1)}) : torch::cat(features);
   draws.labels = torch::tensor(labels, torch::kLong);
-  draws.current = torch::tensor(std::vector<std::int64_t>(current.begin(), current.end()), torch::kLong).to(torch::kBool);
   return draws;
 }
 

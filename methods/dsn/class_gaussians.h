@@ -16,11 +16,11 @@ struct DrawCounts {
   int current = 4, base_cap = 4, old_cap = 4, regular = 4;
 };
 
-// Features drawn from the class Gaussians: labels are classes; `current` marks the draws of the
-// current session's classes, which the release labels with minus the class (ex L77-L78) and
-// routes with the real shots.
+// Features drawn from the class Gaussians, labelled with their classes. The release labels the
+// current session's draws with minus the class (ex L77-L78) to route them with the real shots;
+// the labels themselves tell which they are.
 struct GaussianDraws {
-  torch::Tensor features, labels, current;
+  torch::Tensor features, labels;
 };
 
 // DSN's memory of every seen class (exemplar.py, "Exemplar"): a mean and a full covariance of its
@@ -46,6 +46,7 @@ class ClassGaussiansImpl : public torch::nn::Module {
  private:
   torch::Tensor means_, covariances_, extra_draws_;
   // Each class's sampling factor, kept while its covariance does not change (old classes' never do).
+  // Not state: a restored method is built afresh, with an empty cache.
   std::vector<torch::Tensor> factors_;
 };
 TORCH_MODULE(ClassGaussians);

@@ -125,7 +125,11 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
   const std::vector<torch::Tensor> trained{supports_->head(session), supports_->branch(session)};
   for (auto tensor : trained) tensor.set_requires_grad(true);
   torch::optim::SGD optimizer(trained, torch::optim::SGDOptions(settings_.session_lr).momentum(0.9).dampening(0.5));
-  const DrawCounts counts{settings_.new_samples, settings_.base_samples, settings_.old_samples, settings_.sample_k};
+  DrawCounts counts;
+  counts.current = settings_.new_samples;
+  counts.base_cap = settings_.base_samples;
+  counts.old_cap = settings_.old_samples;
+  counts.regular = settings_.sample_k;
   // Under test-oracle, the epoch with the best accuracy on every seen class's test samples
   // (test_continue, L369-L388; ties to the later epoch); otherwise the last epoch (ours).
   torch::Tensor oracle, oracle_labels;
@@ -141,7 +145,7 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
   // reference to the dict, so the calibrations after the kept epoch reach best_cov until the next
   // re-estimation makes a new dict (L279, L354, L386).
   torch::Tensor working_means, working_covariances, kept_means, kept_covariances;
-  torch::Tensor features, labels, real;
+  torch::Tensor features, labels, is_real_shot;
   for (int epoch = 0; epoch < settings_.session_epochs; ++epoch) {
     if (epoch % settings_.refresh_every == 0) {
       working_means = shot_means.clone();
@@ -150,7 +154,7 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       const GaussianDraws draws = gaussians_->draw(seen, base, first, counts);  // L280-L286
       features = torch::cat({draws.features, shots});
       labels = torch::cat({draws.labels, shot_labels});
-      real = torch::cat({torch::zeros({draws.labels.size(0)}, torch::kBool), torch::ones({shots.size(0)}, torch::kBool)});
+      is_real_shot = torch::cat({torch::zeros({draws.labels.size(0)}, torch::kBool), torch::ones({shots.size(0)}, torch::kBool)});
     }
     std::vector<std::int64_t> order(static_cast<std::size_t>(features.size(0)));
     std::iota(order.begin(), order.end(), 0);
@@ -183,7 +187,7 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       if (gate.defined()) {
         torch::NoGradGuard no_grad;
         supports_->gate(session).copy_(gate.detach());  // finish_train, L344 -> DSN.py L83-L84
-        const torch::Tensor shot_rows = real.index_select(0, new_rows);
+        const torch::Tensor shot_rows = is_real_shot.index_select(0, new_rows);
         confusion.record(new_output.detach().index({shot_rows}), labels.index_select(0, new_rows).index({shot_rows}));
       }
       cross_entropy += loss.cross_entropy.item<double>();
@@ -228,7 +232,10 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
     }
   }
   best.restore(context, "session");
-  if (kept_epoch < 0) kept_means = working_means, kept_covariances = working_covariances;
+  if (kept_epoch < 0) {
+    kept_means = working_means;
+    kept_covariances = working_covariances;
+  }
   if (kept_means.defined()) gaussians_->blend(first, kept_means, kept_covariances);  // L398
   context.diagnostics["session_gate_mean"] = supports_->gate(session).mean().item<double>();
 }

@@ -14,7 +14,7 @@
 
 namespace fscil {
 
-// DSN, the dynamic support network (Yang, Liu, Wu, Zhang, Ye, TPAMI 2023; Yang-Bob/DSN), on the
+// DSN, the dynamic support network (Yang, Lin, Zhang, Liu, Liang, Ji, Ye, TPAMI 2023; Yang-Bob/DSN), on the
 // shared encoder. The base session trains the encoder with fc1 and cosine base rows (train.py),
 // then keeps a Gaussian (mean, full covariance) of every base class. Each session freezes all of
 // that and adds a support branch (a copy of fc1), gated per node, and a head whose rows start at

@@ -20,7 +20,7 @@ struct DsnSettings {
   int session_epochs = 70;    // dsn_session_epochs (--max_epoch)
   double session_lr = 0.1;    // dsn_session_lr (--lr)
   int session_batch = 256;    // dsn_session_batch (--batch_size)
-  int refresh_every = 2;      // dsn_refresh_every: epochs between re-estimations and redraws (--delay_estimation)
+  int refresh_every = 2;      // dsn_refresh_every: epochs between redraws (--delay_estimation)
   int new_samples = 5;        // dsn_new_samples: draws per current class (--newsample_num)
   int old_samples = 5;        // dsn_old_samples: cap of draws per earlier novel class (--oldsample_num_min)
   int base_samples = 5;       // dsn_base_samples: cap of draws per base class (--basesample_num_min)

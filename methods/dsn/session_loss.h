@@ -8,6 +8,8 @@ struct DsnSessionLoss {
   torch::Tensor cross_entropy;  // CE of temperature x cosines over every seen class
   // Soft-target cross-entropy (not KL) between the network before the session and this one over
   // the old classes' columns, both scaled by the temperature and divided by T = 0.5 (L101-L107).
+  // Under the release's "part" optimiser the two networks' old columns are equal, so the term has
+  // no gradient and its value is the teacher's entropy.
   torch::Tensor distillation;
   // 0.1 x relu(|gate|_1 / N - r) with r = 0, i.e. 0.1 x the mean gate (L97-L99: the release's r is
   // a parameter at 0 that no optimiser holds, so --r is never read); zero without a new row.

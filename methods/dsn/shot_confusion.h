@@ -33,7 +33,7 @@ torch::Tensor calibrated_covariance(const torch::Tensor& own, const torch::Tenso
                                     const torch::Tensor& base_covariances);
 
 // The old classes among the `top_k` of `weights`' first L entries whose weight reaches
-// max(0, the own class's weight, the last entry) (ex L190-L197).
+// max(0, w_own), w_own being the last entry (ex L190-L197).
 std::vector<std::int64_t> confused_old_classes(const torch::Tensor& weights, int top_k);
 
 }  // namespace fscil
