@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "methods/adbs/adbs_method.h"
+#include "methods/comp_fscil/comp_fscil_method.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/dsn/dsn_method.h"
 #include "methods/method.h"
@@ -27,6 +28,7 @@ std::vector<MethodEntry>& registry() {
     entries.push_back(adbs_entry());
     entries.push_back(pan_entry());
     entries.push_back(dsn_entry());
+    entries.push_back(comp_fscil_entry());
     return entries;
   }();
   return table;

@@ -31,6 +31,7 @@ std::pair<std::string, std::string> paper_row_of(const std::string& method, cons
   if (method == "adbs") return {"results_" + suffix, "ADBS"};
   if (method == "pan") return {"results_" + suffix, "PAN"};
   if (method == "dsn") return {"results_" + suffix, "DSN"};
+  if (method == "comp-fscil") return {"results_" + suffix, "Comp-FSCIL"};
   if (method.rfind("cop-fscil/", 0) == 0) return {"ablation_" + suffix, method};
   return {};
 }

@@ -19,6 +19,16 @@ torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& featu
   return embeddings;
 }
 
+torch::Tensor embed_maps_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size) {
+  torch::NoGradGuard no_grad;
+  const bool was_training = encoder->is_training();
+  encoder->eval();
+  const torch::Tensor maps =
+      map_batches(features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward_map(batch).contiguous(); });
+  encoder->train(was_training);
+  return maps;
+}
+
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
                           const std::vector<std::int64_t>& classes) {
   std::vector<torch::Tensor> means;

@@ -14,7 +14,10 @@ namespace fscil {
 torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256,
                                const InputNormHook& after_input_norm = {});
 
-// Mean embedding per class, rows in the order of `classes`.
+// The same for the encoder's last map before pooling (ResNet18EncoderImpl::forward_map): N x D x h x w.
+torch::Tensor embed_maps_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256);
+
+// Mean embedding per class, rows in the order of `classes` (any shape per sample).
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
                           const std::vector<std::int64_t>& classes);
 

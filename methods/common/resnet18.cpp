@@ -181,13 +181,17 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
 }
 
 torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNormHook& after_input_norm) {
+  return torch::adaptive_avg_pool2d(forward_map(x, after_input_norm), {1, 1}).flatten(1);
+}
+
+torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm) {
   if (!is_training() && fold_norms_at_inference_) {
     // bn0 at inference: a scale and shift per Mel bin, broadcast over the contiguous input.
     const auto [scale, shift] = inference_affine(input_norm);
     torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
     if (after_input_norm) normalised = after_input_norm(normalised);
     const torch::Tensor out = pool_stem_map(folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_());
-    return torch::adaptive_avg_pool2d(stages->forward(out), {1, 1}).flatten(1);
+    return stages->forward(out);
   }
   // bn0 normalises each Mel bin, so the bins become the channel axis for it.
   torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
@@ -200,7 +204,7 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
               ? run_segment(segment, out)
               : RecomputedSegment::apply(out, this, static_cast<std::int64_t>(segment), at::TensorList(parameters));
   }
-  return torch::adaptive_avg_pool2d(out, {1, 1}).flatten(1);
+  return out;
 }
 
 torch::Tensor ResNet18EncoderImpl::run_segment(int segment, const torch::Tensor& x) {

@@ -55,6 +55,8 @@ class ResNet18EncoderImpl : public torch::nn::Module {
  public:
   explicit ResNet18EncoderImpl(const ResNet18Options& options);
   torch::Tensor forward(const torch::Tensor& x, const InputNormHook& after_input_norm = {});
+  // The last stage's map before the global pooling, N x D x h x w: what forward() averages.
+  torch::Tensor forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm = {});
   std::int64_t embedding_size() const { return embedding_size_; }
   // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
   void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;

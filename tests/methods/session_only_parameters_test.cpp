@@ -106,7 +106,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"dsn", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"dsn_session_epochs", "3"}},
              {{"dsn_gamma", "0.5"}, {"dsn_session_epochs", "2"}, {"dsn_session_lr", "0.05"}, {"dsn_session_batch", "64"},
               {"dsn_refresh_every", "1"}, {"dsn_new_samples", "3"}, {"dsn_old_samples", "3"}, {"dsn_base_samples", "3"},
-              {"dsn_sample_k", "2"}, {"dsn_top_k", "1"}}}),
+              {"dsn_sample_k", "2"}, {"dsn_top_k", "1"}}},
+        Case{"comp-fscil", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"comp_session_steps", "3"}},
+             {{"comp_session_steps", "2"}, {"comp_session_lr", "0.05"}}}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.method;
       std::replace(name.begin(), name.end(), '-', '_');
