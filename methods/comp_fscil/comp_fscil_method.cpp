@@ -77,7 +77,7 @@ void CompFscilMethod::train_base(const SessionData& base, RunContext& context) {
     auto& values = context.training_log.back().values;
     values["vector_ce"] = vector_sum / std::max(steps, 1);
     values["map_ce"] = map_sum / std::max(steps, 1);
-    values["reuse_ce"] = reuse_sum / std::max(steps, 1);
+    if (settings_.reuse_weight > 0) values["reuse_ce"] = reuse_sum / std::max(steps, 1);
     values["map_temperature"] = map_temperature_->value.item<double>();
     vector_sum = map_sum = reuse_sum = 0;
     steps = 0;
@@ -146,7 +146,7 @@ torch::Tensor CompFscilMethod::embed(const torch::Tensor& features) {
 
 torch::Tensor CompFscilMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
-  const torch::Tensor maps = embeddings.view({embeddings.size(0), map_shape_[0], map_shape_[1], map_shape_[2]});
+  const torch::Tensor maps = embeddings.reshape({embeddings.size(0), map_shape_[0], map_shape_[1], map_shape_[2]});
   return test_logits(maps, seen_classes_->value());
 }
 

@@ -25,8 +25,8 @@ torch::Tensor cross_gram_energy(const torch::Tensor& a, const torch::Tensor& p) 
   return rows.matmul(cols).view({n, positions, k, m}).pow(2).sum({1, 3});
 }
 
-// ||x_i - y_j||^2 for every pair, expanded so that its gradient stays finite where x_i = y_j (the
-// release's cdist^2; cdist's own backward divides by the distance).
+// ||x_i - y_j||^2 for every pair (the release's cdist^2), expanded into one matrix product rather
+// than a pairs x D difference tensor (for primitive reuse, (B m)^2 x D).
 torch::Tensor squared_distances(const torch::Tensor& x, const torch::Tensor& y) {
   return x.pow(2).sum(1, true) + y.pow(2).sum(1).unsqueeze(0) - 2 * x.matmul(y.t());
 }

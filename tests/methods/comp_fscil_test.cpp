@@ -54,7 +54,8 @@ TEST(CompositionalHeads, OnlyTheSampleIsPowered) {
 }
 
 TEST(CompositionalHeads, VectorHeadTrainsOnDistancesAndTestsOnCosines) {
-  const torch::Tensor x = torch::tensor({{1.0f, 2.0f, 3.0f}}), w = torch::tensor({{3.0f, 1.0f, 2.0f}});
+  // Centred, (-1, 0, 1) and (1, -1, 0): -6 (uncentred it would be -9) and cos -0.5.
+  const torch::Tensor x = torch::tensor({{1.0f, 2.0f, 3.0f}}), w = torch::tensor({{4.0f, 2.0f, 3.0f}});
   EXPECT_NEAR(vector_distance_logits(x, w, 1).item<double>(), -6.0, 1e-5);
   EXPECT_NEAR(vector_cosine_logits(x, w, 1).item<double>(), -0.5, 1e-6);
   EXPECT_NEAR(vector_distance_logits(x, w, 2).item<double>(), -12.0, 1e-5);
@@ -118,6 +119,10 @@ TEST(CompFscilMethod, ASessionStartsAtTheShotMeansAndTrainsOnlyItsRowsAndMaps) {
   }
   EXPECT_FALSE(torch::allclose(after.at("novel_prototypes.rows").slice(0, 0, 2),
                                started.at("novel_prototypes.rows").slice(0, 0, 2)));
+  // CKA ignores a prototype's scale, so its gradient shrinks as the map grows (here the tiny base's
+  // maps reach 1e6): the maps move, if little.
+  EXPECT_FALSE(torch::equal(after.at("novel_prototypes.maps").slice(0, 0, 2),
+                            started.at("novel_prototypes.maps").slice(0, 0, 2)));
   EXPECT_TRUE(torch::equal(after.at("novel_prototypes.rows").slice(0, 2), base.at("novel_prototypes.rows").slice(0, 2)));
   EXPECT_EQ(method.classify(method.embed_rows(support.features)).sizes(), (std::vector<std::int64_t>{10, 8}));
 }
