@@ -2,31 +2,38 @@
 
 #include <fmt/format.h>
 
+#include <functional>
+
 #include "methods/method.h"
 
 namespace fscil {
 
 namespace F = torch::nn::functional;
 
-torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size,
-                               const InputNormHook& after_input_norm) {
+namespace {
+
+// Runs `encode` over the samples in batches, in eval mode without gradients; restores the train flag.
+torch::Tensor encode_in_eval_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size,
+                                     const std::function<torch::Tensor(const torch::Tensor&)>& encode) {
   torch::NoGradGuard no_grad;
   const bool was_training = encoder->is_training();
   encoder->eval();
-  const torch::Tensor embeddings = map_batches(
-      features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward(batch, after_input_norm); });
+  const torch::Tensor encoded = map_batches(features, batch_size, encode);
   encoder->train(was_training);
-  return embeddings;
+  return encoded;
+}
+
+}  // namespace
+
+torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size,
+                               const InputNormHook& after_input_norm) {
+  return encode_in_eval_batches(encoder, features, batch_size,
+                                [&](const torch::Tensor& batch) { return encoder->forward(batch, after_input_norm); });
 }
 
 torch::Tensor embed_maps_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size) {
-  torch::NoGradGuard no_grad;
-  const bool was_training = encoder->is_training();
-  encoder->eval();
-  const torch::Tensor maps =
-      map_batches(features, batch_size, [&](const torch::Tensor& batch) { return encoder->forward_map(batch).contiguous(); });
-  encoder->train(was_training);
-  return maps;
+  return encode_in_eval_batches(encoder, features, batch_size,
+                                [&](const torch::Tensor& batch) { return encoder->forward_map(batch).contiguous(); });
 }
 
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
