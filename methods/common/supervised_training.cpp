@@ -35,6 +35,15 @@ void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSched
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                     const std::function<void(int)>& after_epoch) {
+  return train_epochs_while(parameters, batch_loss, data, schedule, context, phase, [&](int epoch) {
+    if (after_epoch) after_epoch(epoch);
+    return true;
+  });
+}
+
+double train_epochs_while(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss,
+                          const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
+                          const std::string& phase, const std::function<bool(int)>& keep_going) {
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
   const std::int64_t samples = data.features.count();
   std::vector<std::int64_t> order(samples);
@@ -61,7 +70,7 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
     last_loss = batches > 0 ? loss_sum / batches : 0.0;
     context.log_epoch(phase, epoch + 1, schedule.epochs,
                       {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
-    if (after_epoch) after_epoch(epoch + 1);
+    if (!keep_going(epoch + 1)) break;
   }
   return last_loss;
 }

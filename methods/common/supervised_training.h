@@ -39,6 +39,11 @@ using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, con
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                     const std::function<void(int)>& after_epoch = {});
+// The same, stopping early once `keep_going` (called after each epoch with its 1-based number, in
+// place of `after_epoch`) returns false: the schedule's later epochs are then never run.
+double train_epochs_while(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss,
+                          const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
+                          const std::string& phase, const std::function<bool(int)>& keep_going);
 
 // Cross-entropy training of encoder + cosine classifier on the classes [0, classes) of `data`.
 // Returns the mean loss of the last epoch.

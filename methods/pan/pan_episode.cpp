@@ -1,12 +1,11 @@
 #include "methods/pan/pan_episode.h"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <numeric>
 
 #include "core/random_draws.h"
 #include "core/seeded_shuffle.h"
+#include "methods/common/class_members.h"
 
 namespace fscil {
 
@@ -19,12 +18,7 @@ PanEpisodeSampler::PanEpisodeSampler(const SessionData& base, std::int64_t tempo
       novel_way_(std::min<std::int64_t>(way, base_classes - temporary_base)),
       shot_(shot),
       query_(query),
-      members_(base_classes) {
-  const auto labels = base.labels.contiguous();
-  for (std::int64_t i = 0; i < labels.size(0); ++i) members_.at(labels[i].item<std::int64_t>()).push_back(i);
-  for (std::int64_t c = 0; c < base_classes; ++c) {
-    if (members_[c].empty()) throw MethodError(fmt::format("base class {} has no training samples", c));
-  }
+      members_(base_class_members(base.labels, base_classes)) {
   // The episode's two parts must pair up slot by slot for the release's grouping.
   if (base_way_ != novel_way_) base_way_ = novel_way_ = std::min(base_way_, novel_way_);
 }

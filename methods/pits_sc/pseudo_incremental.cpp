@@ -7,6 +7,7 @@
 
 #include "core/random_draws.h"
 #include "core/seeded_shuffle.h"
+#include "methods/common/class_members.h"
 
 namespace fscil {
 
@@ -34,13 +35,7 @@ PitEpisodeSampler::PitEpisodeSampler(const SessionData& base, int base_classes, 
       total_classes_(total_classes),
       settings_(settings),
       shape_(pit_episode_shape(settings, base_classes, total_classes - base_classes)),
-      members_(base_classes) {
-  const auto labels = base.labels.contiguous();
-  for (std::int64_t i = 0; i < labels.size(0); ++i) members_.at(labels[i].item<std::int64_t>()).push_back(i);
-  for (int c = 0; c < base_classes; ++c) {
-    if (members_[c].empty()) throw MethodError(fmt::format("base class {} has no training samples", c));
-  }
-}
+      members_(base_class_members(base.labels, base_classes)) {}
 
 std::vector<std::int64_t> PitEpisodeSampler::pick_samples(std::int64_t base_class, std::mt19937_64& generator) const {
   std::vector<std::int64_t> pool = members_[base_class];

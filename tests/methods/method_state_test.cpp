@@ -49,7 +49,8 @@ TEST_P(MethodState, RestoredAfterASessionContinuesExactly) {
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodState,
-                         ::testing::Values("prototype", "pits-sc", "cop-fscil/cpi", "cop-fscil", "orco", "adbs", "pan", "dsn", "comp-fscil"),
+                         ::testing::Values("prototype", "pits-sc", "cop-fscil/cpi", "cop-fscil", "orco", "adbs", "pan", "dsn", "comp-fscil",
+                                           "arp"),
                          [](const auto& info) {
                            std::string name = info.param;
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

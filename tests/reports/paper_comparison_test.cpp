@@ -47,6 +47,7 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
   table.push_back({"results_ls100", "LS-100", "PAN", "TMM24", {91.83, 91.29, 90.70}, 12.59, 86.39, 1.82});
   table.push_back({"results_ns100", "NS-100", "DSN", "TPAMI23", {100.00, 98.05, 97.32}, 11.11, 93.76, 1.30});
   table.push_back({"results_lmt108", "LMT108", "Comp-FSCIL", "ICML24", {42.54, 20.47, 17.37}, 33.24, 16.21, 13.79});
+  table.push_back({"results_ns100", "NS-100", "ARP", "Interspeech23", {99.96, 95.95, 93.60}, 20.27, 89.26, 2.48});
   const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("adbs", "haptex", 1, {80, 40, 20}),
                                                        run_with_accuracies("adbs", "ls100", 1, {80, 40, 20}),
                                                        run_with_accuracies("pan", "haptex", 1, {80, 40, 20}),
@@ -54,10 +55,12 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
                                                        run_with_accuracies("dsn", "haptex", 1, {80, 40, 20}),
                                                        run_with_accuracies("dsn", "ns100", 1, {80, 40, 20}),
                                                        run_with_accuracies("comp-fscil", "lmt108", 1, {80, 40, 20}),
-                                                       run_with_accuracies("comp-fscil", "ls100", 1, {80, 40, 20})}),
+                                                       run_with_accuracies("comp-fscil", "ls100", 1, {80, 40, 20}),
+                                                       run_with_accuracies("arp", "lmt108", 1, {80, 40, 20}),
+                                                       run_with_accuracies("arp", "ns100", 1, {80, 40, 20})}),
                                        table);
-  // the paper's audio tables have no ADBS or Comp-FSCIL row, its tactile tables no PAN or DSN row
-  ASSERT_EQ(rows.size(), 4u);
+  // the paper's audio tables have no ADBS or Comp-FSCIL row, its tactile tables no PAN, DSN or ARP row
+  ASSERT_EQ(rows.size(), 5u);
   EXPECT_EQ(rows[0].paper_method, "ADBS");
   EXPECT_EQ(rows[0].paper, (std::vector<double>{92.95, 83.83, 72.58, 34, 70.38, 4.77}));
   EXPECT_EQ(rows[1].paper_method, "PAN");
@@ -66,6 +69,8 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
   EXPECT_EQ(rows[2].paper, (std::vector<double>{100.00, 98.05, 97.32, 11.11, 93.76, 1.30}));
   EXPECT_EQ(rows[3].paper_method, "Comp-FSCIL");
   EXPECT_EQ(rows[3].paper, (std::vector<double>{42.54, 20.47, 17.37, 33.24, 16.21, 13.79}));
+  EXPECT_EQ(rows[4].paper_method, "ARP");
+  EXPECT_EQ(rows[4].paper, (std::vector<double>{99.96, 95.95, 93.60, 20.27, 89.26, 2.48}));
 }
 
 TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {

@@ -1,0 +1,153 @@
+#include "methods/arp/arp_method.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "methods/arp/arp_episode.h"
+#include "methods/arp/repeated_batch_statistics.h"
+#include "methods/common/base_validation.h"
+#include "methods/common/best_epoch.h"
+#include "methods/common/embedding.h"
+#include "methods/common/session_order.h"
+#include "methods/common/supervised_training.h"
+
+namespace fscil {
+
+namespace F = torch::nn::functional;
+
+ArpMethod::ArpMethod(const ParameterSet& params) : settings_(ArpSettings::from(params)) {}
+
+NamedModules ArpMethod::build(const RunContext& context) {
+  encoder_ = ResNet18Encoder(encoder_options(context));
+  const std::int64_t dim = encoder_->embedding_size();
+  rows_ = ArpRows(context.total_classes, dim);
+  relation_ = RelationHead(dim, settings_.relation_width);
+  attention_ = RefinementAttention(dim);
+  seen_classes_ = ClassCount();
+  return {{"encoder", encoder_.ptr()},
+          {"rows", rows_.ptr()},
+          {"relation", relation_.ptr()},
+          {"seen_classes", seen_classes_.ptr()}};
+}
+
+// main_SPPR_Nsynth.py meta_train (L116-L193) and FSCIL_model_define_V1.py forward (L126-L160).
+void ArpMethod::train_base(const SessionData& base, RunContext& context) {
+  build_modules(context);
+  const std::int64_t classes = context.base_classes;
+  const ArpEpisodeSampler sampler(base, classes, settings_.way, settings_.shot, settings_.tasks);
+  // One optimiser over every parameter (L58; Utils.py L67-L69), the learned rows included.
+  std::vector<torch::Tensor> parameters = encoder_->parameters();
+  for (const auto* module : {static_cast<torch::nn::Module*>(rows_.get()), static_cast<torch::nn::Module*>(relation_.get()),
+                             static_cast<torch::nn::Module*>(attention_.get())}) {
+    for (const auto& parameter : module->parameters()) parameters.push_back(parameter);
+  }
+  encoder_->train();
+  relation_->train();
+  attention_->train();
+  const BatchLoss loss = [&](const torch::Tensor& features, const torch::Tensor& labels) {
+    const ArpEpisode episode = sampler.draw(context.generator);
+    // The supports' means keep their gradient (L127-L133).
+    const torch::Tensor means = support_means(encoder_->forward(episode.features), settings_.shot);
+    // The release embeds the batch once per task (L150): the same features and gradients as one
+    // pass, but `tasks` running-statistics updates, which one pass repeats exactly.
+    torch::Tensor queries;
+    {
+      const RepeatedBatchStatistics repeated(*encoder_, settings_.tasks);
+      queries = encoder_->forward(features);
+    }
+    const torch::Tensor rows = rows_->rows.slice(0, 0, classes);
+    // CE over every task's logits with the labels repeated per task (main L157-L160): the mean of
+    // the tasks' means, as every task scores the same batch.
+    torch::Tensor total = torch::zeros({});
+    for (const torch::Tensor& slots : episode.task_slots) {
+      const torch::Tensor refined =
+          refine_task_rows(attention_, rows, episode.classes.index_select(0, slots), means.index_select(0, slots));
+      total = total + F::cross_entropy(relation_->forward(queries, refined), labels);
+    }
+    return total / settings_.tasks;
+  };
+  // The release stops once the base-validation loss (plain rows, no refinement) has not fallen for
+  // more than early_stop_tol epochs (main L166, L179, L219-L230), and keeps the weights it stopped
+  // with: its "best" state_dict() shares storage with the live weights. Under --selection
+  // validation the epoch of the lowest loss is kept instead, which is what that code meant to do.
+  const SessionData* validation = context.validation;
+  const bool may_stop = validation != nullptr && settings_.base.epochs > settings_.early_stop_tol + 1;
+  const bool select = validation != nullptr && context.selection == EpochSelection::validation;
+  BestEpoch best({encoder_.get(), rows_.get(), relation_.get()});
+  double lowest = std::numeric_limits<double>::infinity();
+  int epochs_without_lower = 0;
+  train_epochs_while(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
+    if (!may_stop && !select) return true;
+    const double validation_ce = validation_loss(*validation, classes);
+    auto& values = context.training_log.back().values;
+    values["validation_ce"] = validation_ce;
+    if (select) {
+      values["selection_score"] = -validation_ce;
+      best.consider("base", epoch, -validation_ce);
+    }
+    epochs_without_lower = validation_ce < lowest ? 0 : epochs_without_lower + 1;
+    lowest = std::min(lowest, validation_ce);
+    if (may_stop && epochs_without_lower > settings_.early_stop_tol) {
+      context.diagnostics["base_stopped_epoch"] = epoch;
+      return false;
+    }
+    return true;
+  });
+  best.restore(context, "base");
+  seen_classes_->add(classes);
+  record_base_validation(*this, context);
+}
+
+// calculate_means (FSCIL_model_define_V1.py L188-L198): the shots' mean raw embeddings, nothing
+// trained. The release's first session embeds them with BatchNorm still in training mode (a fresh
+// model, main L98); here the encoder is frozen and embeds in eval mode, as every later session.
+void ArpMethod::learn_session(const SessionData& support, RunContext& context) {
+  (void)context;
+  const std::int64_t seen = seen_classes_->value();
+  check_session_order(support, seen);
+  const auto added = static_cast<std::int64_t>(support.new_classes.size());
+  const torch::Tensor means = class_means(embed_in_batches(encoder_, support.features), support.labels, support.new_classes);
+  {
+    torch::NoGradGuard no_grad;
+    rows_->rows.slice(0, seen, seen + added).copy_(means);
+  }
+  seen_classes_->add(added);
+}
+
+torch::Tensor ArpMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
+
+// forward_test (FSCIL_model_define_V1.py L162-L165): the relation head on every seen plain row.
+torch::Tensor ArpMethod::classify(const torch::Tensor& embeddings) {
+  torch::NoGradGuard no_grad;
+  return relation_logits(embeddings, seen_classes_->value());
+}
+
+// In eval mode and in chunks of samples: every pair is a row of the head's hidden layers.
+torch::Tensor ArpMethod::relation_logits(const torch::Tensor& embeddings, std::int64_t classes) {
+  const bool was_training = relation_->is_training();
+  relation_->eval();
+  const torch::Tensor rows = rows_->rows.slice(0, 0, classes);
+  std::vector<torch::Tensor> chunks;
+  for (const torch::Tensor& chunk : embeddings.split(1024)) chunks.push_back(relation_->forward(chunk, rows));
+  relation_->train(was_training);
+  return torch::cat(chunks);
+}
+
+double ArpMethod::validation_loss(const SessionData& validation, std::int64_t classes) {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor logits = relation_logits(embed_in_batches(encoder_, validation.features), classes);
+  return F::cross_entropy(logits, validation.labels).item<double>();
+}
+
+MethodEntry arp_entry() {
+  MethodEntry entry{"arp",
+                    "ARP: learned base rows refined by attention in base-training episodes, a relation head scoring "
+                    "samples against rows; sessions add the shots' means, nothing trained",
+                    [](const ParameterSet& params) { return std::make_unique<ArpMethod>(params); }};
+  entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.profile_defaults = pretraining_profiles();
+  entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
+  return entry;
+}
+
+}  // namespace fscil
