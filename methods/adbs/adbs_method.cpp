@@ -1,8 +1,7 @@
 #include "methods/adbs/adbs_method.h"
 
-#include <numeric>
-
 #include "methods/common/base_validation.h"
+#include "methods/common/class_members.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/loss_parts.h"
@@ -58,9 +57,7 @@ void AdbsMethod::train_base(const SessionData& base, RunContext& context) {
   means.record(context.diagnostics, "base");
   // The trained rows give way to the classes' mean embeddings, the margins stay
   // (replace_base_fc, helper.py L114 ff.: plain means of the unnormalised embeddings).
-  std::vector<std::int64_t> base_classes(classes);
-  std::iota(base_classes.begin(), base_classes.end(), 0);
-  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, base_classes));
+  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
   seen_classes_->add(classes);
   record_margins(context);
   record_base_validation(*this, context);

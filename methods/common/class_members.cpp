@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <numeric>
+
 #include "core/error.h"
 
 namespace fscil {
@@ -14,6 +16,12 @@ std::vector<std::vector<std::int64_t>> base_class_members(const torch::Tensor& l
     if (members[c].empty()) throw MethodError(fmt::format("base class {} has no training samples", c));
   }
   return members;
+}
+
+std::vector<std::int64_t> class_range(std::int64_t first, std::int64_t end) {
+  std::vector<std::int64_t> classes(static_cast<std::size_t>(end - first));
+  std::iota(classes.begin(), classes.end(), first);
+  return classes;
 }
 
 }  // namespace fscil

@@ -11,4 +11,7 @@ namespace fscil {
 // episode samplers of the base session draw from every class.
 std::vector<std::vector<std::int64_t>> base_class_members(const torch::Tensor& labels, std::int64_t classes);
 
+// The classes first, first + 1, ..., end - 1 (class_means' list of classes).
+std::vector<std::int64_t> class_range(std::int64_t first, std::int64_t end);
+
 }  // namespace fscil

@@ -1,10 +1,9 @@
 #include "methods/common/supervised_training.h"
 
 #include <cmath>
-#include <numeric>
 
-#include "core/seeded_shuffle.h"
 #include "core/stop_request.h"
+#include "methods/common/shuffled_batches.h"
 
 namespace fscil {
 
@@ -45,19 +44,13 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
                           const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
                           const std::string& phase, const std::function<bool(int)>& keep_going) {
   torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
-  const std::int64_t samples = data.features.count();
-  std::vector<std::int64_t> order(samples);
   double last_loss = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
     set_epoch_learning_rate(optimizer, schedule, epoch);
-    std::iota(order.begin(), order.end(), 0);
-    shuffle_with(order, context.generator);
     double loss_sum = 0;
     std::int64_t batches = 0;
-    for (std::int64_t first = 0; first < samples; first += schedule.batch_size) {
-      const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
-      if (size < 2) break;  // BatchNorm cannot train on a single sample
-      const torch::Tensor index = torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
+    for (const torch::Tensor& index : shuffled_batches(data.features.count(), schedule.batch_size, context.generator)) {
+      if (index.size(0) < 2) break;  // BatchNorm cannot train on a single sample
       const torch::Tensor loss = batch_loss(data.features.gather(index), data.labels.index_select(0, index));
       optimizer.zero_grad();
       loss.backward();

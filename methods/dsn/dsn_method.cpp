@@ -2,13 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <numeric>
-
-#include "core/seeded_shuffle.h"
 #include "methods/common/base_validation.h"
+#include "methods/common/class_members.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/session_order.h"
+#include "methods/common/shuffled_batches.h"
 #include "methods/dsn/session_loss.h"
 #include "methods/dsn/shot_confusion.h"
 
@@ -27,12 +26,6 @@ std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& em
     covariances.push_back(sample_covariance(embeddings.index_select(0, torch::nonzero(labels == c).view(-1))));
   }
   return {class_means(embeddings, labels, classes), torch::stack(covariances)};
-}
-
-std::vector<std::int64_t> class_range(std::int64_t first, std::int64_t end) {
-  std::vector<std::int64_t> classes(end - first);
-  std::iota(classes.begin(), classes.end(), first);
-  return classes;
 }
 
 }  // namespace
@@ -156,15 +149,12 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       labels = torch::cat({draws.labels, shot_labels});
       is_real_shot = torch::cat({torch::zeros({draws.labels.size(0)}, torch::kBool), torch::ones({shots.size(0)}, torch::kBool)});
     }
-    std::vector<std::int64_t> order(static_cast<std::size_t>(features.size(0)));
-    std::iota(order.begin(), order.end(), 0);
-    shuffle_with(order, context.generator);
+    const std::vector<torch::Tensor> batches =
+        shuffled_batches(features.size(0), settings_.session_batch, context.generator);
     ShotConfusion confusion(base, first, classes);
     double cross_entropy = 0, distillation = 0, compression = 0;
     int steps = 0;
-    for (std::size_t start = 0; start < order.size(); start += static_cast<std::size_t>(settings_.session_batch)) {
-      const std::size_t end = std::min(order.size(), start + static_cast<std::size_t>(settings_.session_batch));
-      const torch::Tensor rows = torch::tensor(std::vector<std::int64_t>(order.begin() + start, order.begin() + end));
+    for (const torch::Tensor& rows : batches) {
       const torch::Tensor batch_labels = labels.index_select(0, rows), is_new = batch_labels >= first;
       const torch::Tensor old_rows = rows.index({~is_new}), new_rows = rows.index({is_new});
       // Old classes' rows (drawn) pass with the stored gate, the previous step's (L329-L335); the

@@ -3,17 +3,16 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <numeric>
 #include <optional>
 
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/embedding.h"
 #include "methods/common/masked_view.h"
 #include "methods/common/module_state.h"
+#include "methods/common/shuffled_batches.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
 #include "core/random_draws.h"
-#include "core/seeded_shuffle.h"
 #include "core/stop_request.h"
 
 namespace fscil {
@@ -158,21 +157,16 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
                                                             .dampening(schedule.dampening)
                                                             .weight_decay(schedule.weight_decay));
   const std::int64_t samples = views.size(0);
-  std::vector<std::int64_t> order(static_cast<std::size_t>(samples));
   std::optional<ParameterSnapshot> best;
   double best_score = -1;
   int epochs_trained = 0, checks_since_best = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
     const double rate = schedule.rate_at(epoch);
     for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
-    std::iota(order.begin(), order.end(), 0);
-    shuffle_with(order, context.generator);
     double loss_sum = 0;
     int batches = 0;
-    for (std::int64_t first = 0; first < samples; first += schedule.batch_size) {
-      const std::int64_t size = std::min<std::int64_t>(schedule.batch_size, samples - first);
-      const torch::Tensor index =
-          torch::tensor(std::vector<std::int64_t>(order.begin() + first, order.begin() + first + size));
+    for (const torch::Tensor& index : shuffled_batches(samples, schedule.batch_size, context.generator)) {
+      const std::int64_t size = index.size(0);
       const torch::Tensor batch_labels = labels.index_select(0, index);
       const torch::Tensor pairs = pick_view_pairs(views.index_select(0, index), context.generator);
       const torch::Tensor projections = project(pairs.flatten(0, 1)).view({size, 2, -1});

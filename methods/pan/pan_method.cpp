@@ -2,10 +2,9 @@
 
 #include <fmt/format.h>
 
-#include <numeric>
-
 #include "core/stop_request.h"
 #include "methods/common/base_validation.h"
+#include "methods/common/class_members.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
@@ -76,10 +75,8 @@ void PanMethod::train_base(const SessionData& base, RunContext& context) {
   train_standard(first_classes(base, temporary_base), temporary_base, "temporary_standard", context);
   train_pseudo_incremental(base, temporary_base, context);
   train_standard(base, classes, "standard", context);
-  std::vector<std::int64_t> base_classes(classes);
-  std::iota(base_classes.begin(), base_classes.end(), 0);
   // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
-  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, base_classes));
+  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
   seen_classes_->add(classes);
   record_base_validation(*this, context);
 }

@@ -2,10 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <numeric>
 #include <optional>
 
 #include "methods/common/best_epoch.h"
+#include "methods/common/class_members.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/module_state.h"
@@ -147,9 +147,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
 }
 
 void PitsScMethod::reset_base_rows(const SessionData& base, RunContext& context) {
-  std::vector<std::int64_t> classes(context.base_classes);
-  std::iota(classes.begin(), classes.end(), 0);
-  stored_means_ = class_means(embed_rows(base.features), base.labels, classes);
+  stored_means_ = class_means(embed_rows(base.features), base.labels, class_range(0, context.base_classes));
   classifier_->set_mu_rows(0, stored_means_);
   classifier_->set_mu_rows(context.base_classes,
                            torch::zeros({context.total_classes - context.base_classes, stored_means_.size(1)}));
