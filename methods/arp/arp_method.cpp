@@ -37,9 +37,8 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
   const ArpEpisodeSampler sampler(base, classes, settings_.way, settings_.shot, settings_.tasks);
   // One optimiser over every parameter (L58; Utils.py L67-L69), the learned rows included.
   std::vector<torch::Tensor> parameters = encoder_->parameters();
-  for (const auto* module : {static_cast<torch::nn::Module*>(rows_.get()), static_cast<torch::nn::Module*>(relation_.get()),
-                             static_cast<torch::nn::Module*>(attention_.get())}) {
-    for (const auto& parameter : module->parameters()) parameters.push_back(parameter);
+  for (const auto& part : {rows_->parameters(), relation_->parameters(), attention_->parameters()}) {
+    parameters.insert(parameters.end(), part.begin(), part.end());
   }
   encoder_->train();
   relation_->train();
@@ -49,7 +48,7 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
     // The supports' means keep their gradient (L127-L133).
     const torch::Tensor means = support_means(encoder_->forward(episode.features), settings_.shot);
     // The release embeds the batch once per task (L150): the same features and gradients as one
-    // pass, but `tasks` running-statistics updates, which one pass repeats exactly.
+    // pass, but `tasks` running-statistics updates, which this one pass makes at once.
     torch::Tensor queries;
     {
       const RepeatedBatchStatistics repeated(*encoder_, settings_.tasks);
@@ -96,6 +95,25 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
   best.restore(context, "base");
   seen_classes_->add(classes);
   record_base_validation(*this, context);
+  record_refinement(context);
+}
+
+// What the release's test leaves out: the learned rows' norm, how far the attention moves them
+// (eval mode, keys = the rows, as in a task that replaces none) and the base-validation accuracy
+// with those refined rows, beside `base_validation` with the plain rows the test uses.
+void ArpMethod::record_refinement(RunContext& context) {
+  torch::NoGradGuard no_grad;
+  const std::int64_t classes = seen_classes_->value();
+  const torch::Tensor rows = rows_->rows.slice(0, 0, classes);
+  attention_->eval();
+  const torch::Tensor refined = attention_->forward(rows, rows);
+  attention_->train();
+  context.diagnostics["base_row_norm"] = rows.norm(2, 1).mean().item<double>();
+  context.diagnostics["refinement_norm"] = (refined - rows).norm(2, 1).mean().item<double>();
+  if (context.validation == nullptr) return;
+  const torch::Tensor logits = relation_logits(embed_in_batches(encoder_, context.validation->features), refined);
+  context.diagnostics["base_validation_refined_rows"] =
+      100.0 * (logits.argmax(1) == context.validation->labels).to(torch::kDouble).mean().item<double>();
 }
 
 // calculate_means (FSCIL_model_define_V1.py L188-L198): the shots' mean raw embeddings, nothing
@@ -119,14 +137,13 @@ torch::Tensor ArpMethod::embed(const torch::Tensor& features) { return embed_in_
 // forward_test (FSCIL_model_define_V1.py L162-L165): the relation head on every seen plain row.
 torch::Tensor ArpMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
-  return relation_logits(embeddings, seen_classes_->value());
+  return relation_logits(embeddings, rows_->rows.slice(0, 0, seen_classes_->value()));
 }
 
 // In eval mode and in chunks of samples: every pair is a row of the head's hidden layers.
-torch::Tensor ArpMethod::relation_logits(const torch::Tensor& embeddings, std::int64_t classes) {
+torch::Tensor ArpMethod::relation_logits(const torch::Tensor& embeddings, const torch::Tensor& rows) {
   const bool was_training = relation_->is_training();
   relation_->eval();
-  const torch::Tensor rows = rows_->rows.slice(0, 0, classes);
   std::vector<torch::Tensor> chunks;
   for (const torch::Tensor& chunk : embeddings.split(1024)) chunks.push_back(relation_->forward(chunk, rows));
   relation_->train(was_training);
@@ -135,7 +152,8 @@ torch::Tensor ArpMethod::relation_logits(const torch::Tensor& embeddings, std::i
 
 double ArpMethod::validation_loss(const SessionData& validation, std::int64_t classes) {
   torch::NoGradGuard no_grad;
-  const torch::Tensor logits = relation_logits(embed_in_batches(encoder_, validation.features), classes);
+  const torch::Tensor logits =
+      relation_logits(embed_in_batches(encoder_, validation.features), rows_->rows.slice(0, 0, classes));
   return F::cross_entropy(logits, validation.labels).item<double>();
 }
 

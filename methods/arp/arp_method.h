@@ -40,8 +40,10 @@ class ArpMethod : public ModuleMethod {
   NamedModules build(const RunContext& context) override;
 
  private:
-  torch::Tensor relation_logits(const torch::Tensor& embeddings, std::int64_t classes);
+  // The relation head's logits against `rows`, in eval mode.
+  torch::Tensor relation_logits(const torch::Tensor& embeddings, const torch::Tensor& rows);
   double validation_loss(const SessionData& validation, std::int64_t classes);
+  void record_refinement(RunContext& context);
 
   ArpSettings settings_;
   ResNet18Encoder encoder_{nullptr};

@@ -29,10 +29,6 @@ torch::Tensor RefinementAttentionImpl::forward(const torch::Tensor& rows, const 
   return F::dropout(attended, F::DropoutFuncOptions().p(dropout_).training(is_training())) + rows;
 }
 
-}  // namespace fscil
-
-namespace fscil {
-
 torch::Tensor refine_task_rows(RefinementAttention& attention, const torch::Tensor& rows,
                                const torch::Tensor& task_classes, const torch::Tensor& means) {
   return attention->forward(rows.index_copy(0, task_classes, means), rows.index_fill(0, task_classes, 0.0));

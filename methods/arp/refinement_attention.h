@@ -23,10 +23,6 @@ class RefinementAttentionImpl : public torch::nn::Module {
 };
 TORCH_MODULE(RefinementAttention);
 
-}  // namespace fscil
-
-namespace fscil {
-
 // One task's refined classifier (FSCIL_model_define_V1.py L137-L149): the learned rows (C x D)
 // with the task's classes replaced by `means` (their supports' means, differentiably: L146), attending
 // to themselves and to the learned rows with the task's rows zeroed (L148-L149). The replaced rows
