@@ -1,8 +1,8 @@
 #include "methods/adbs/adbs_method.h"
 
 #include "methods/common/base_validation.h"
-#include "methods/common/class_members.h"
 #include "methods/common/best_epoch.h"
+#include "methods/common/class_members.h"
 #include "methods/common/embedding.h"
 #include "methods/common/loss_parts.h"
 #include "methods/common/module_cost.h"

@@ -119,8 +119,7 @@ void ArpMethod::record_refinement(RunContext& context) {
 // calculate_means (FSCIL_model_define_V1.py L188-L198): the shots' mean raw embeddings, nothing
 // trained. The release's first session embeds them with BatchNorm still in training mode (a fresh
 // model, main L98); here the encoder is frozen and embeds in eval mode, as every later session.
-void ArpMethod::learn_session(const SessionData& support, RunContext& context) {
-  (void)context;
+void ArpMethod::learn_session(const SessionData& support, RunContext& /*context*/) {
   const std::int64_t seen = seen_classes_->value();
   check_session_order(support, seen);
   const auto added = static_cast<std::int64_t>(support.new_classes.size());
