@@ -1,11 +1,12 @@
 #include "methods/arp/arp_method.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <limits>
 
 #include "methods/arp/arp_episode.h"
 #include "methods/arp/repeated_batch_statistics.h"
-#include "methods/common/base_validation.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/session_order.h"
@@ -24,10 +25,15 @@ NamedModules ArpMethod::build(const RunContext& context) {
   relation_ = RelationHead(dim, settings_.relation_width);
   attention_ = RefinementAttention(dim);
   seen_classes_ = ClassCount();
-  return {{"encoder", encoder_.ptr()},
-          {"rows", rows_.ptr()},
-          {"relation", relation_.ptr()},
-          {"seen_classes", seen_classes_.ptr()}};
+  base_classes_ = ClassCount();
+  NamedModules modules{{"encoder", encoder_.ptr()},
+                       {"rows", rows_.ptr()},
+                       {"relation", relation_.ptr()},
+                       {"seen_classes", seen_classes_.ptr()},
+                       {"base_classes", base_classes_.ptr()}};
+  // Part of the model only where the test uses it; otherwise base training's alone.
+  if (settings_.refined_test_rows) modules.push_back({"attention", attention_.ptr()});
+  return modules;
 }
 
 // main_SPPR_Nsynth.py meta_train (L116-L193) and FSCIL_model_define_V1.py forward (L126-L160).
@@ -72,7 +78,7 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
   const SessionData* validation = context.validation;
   const bool may_stop = validation != nullptr && settings_.base.epochs > settings_.early_stop_tol + 1;
   const bool select = validation != nullptr && context.selection == EpochSelection::validation;
-  BestEpoch best({encoder_.get(), rows_.get(), relation_.get()});
+  BestEpoch best({encoder_.get(), rows_.get(), relation_.get(), attention_.get()});
   double lowest = std::numeric_limits<double>::infinity();
   int epochs_without_lower = 0;
   train_epochs_while(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
@@ -94,26 +100,33 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
   });
   best.restore(context, "base");
   seen_classes_->add(classes);
-  record_base_validation(*this, context);
-  record_refinement(context);
+  base_classes_->add(classes);
+  record_base_scores(context);
 }
 
-// What the release's test leaves out: the learned rows' norm, how far the attention moves them
-// (eval mode, keys = the rows, as in a task that replaces none) and the base-validation accuracy
-// with those refined rows, beside `base_validation` with the plain rows the test uses.
-void ArpMethod::record_refinement(RunContext& context) {
+// The base's scores on base validation with the plain rows (`base_validation`) and with the
+// refined rows (`base_validation_refined_rows`), whichever arp_test_rows the test reads, from one
+// pass of the encoder. Beside them the learned rows' norm and how far the attention moves them
+// (eval mode; in session 0 every row is a query and a key).
+void ArpMethod::record_base_scores(RunContext& context) {
   torch::NoGradGuard no_grad;
-  const std::int64_t classes = seen_classes_->value();
-  const torch::Tensor rows = rows_->rows.slice(0, 0, classes);
-  attention_->eval();
-  const torch::Tensor refined = attention_->forward(rows, rows);
-  attention_->train();
+  const torch::Tensor rows = rows_->rows.slice(0, 0, seen_classes_->value());
+  const torch::Tensor refined = refine_seen_rows(attention_, rows, base_classes_->value());
   context.diagnostics["base_row_norm"] = rows.norm(2, 1).mean().item<double>();
   context.diagnostics["refinement_norm"] = (refined - rows).norm(2, 1).mean().item<double>();
   if (context.validation == nullptr) return;
-  const torch::Tensor logits = relation_logits(embed_in_batches(encoder_, context.validation->features), refined);
-  context.diagnostics["base_validation_refined_rows"] =
-      100.0 * (logits.argmax(1) == context.validation->labels).to(torch::kDouble).mean().item<double>();
+  const torch::Tensor embeddings = embed_in_batches(encoder_, context.validation->features);
+  const auto accuracy = [&](const torch::Tensor& scored_rows) {
+    const torch::Tensor predicted = relation_logits(embeddings, scored_rows).argmax(1);
+    return 100.0 * (predicted == context.validation->labels).to(torch::kDouble).mean().item<double>();
+  };
+  const double plain = accuracy(rows);
+  const double with_refined = accuracy(refined);
+  context.diagnostics["base_validation"] = plain;
+  context.diagnostics["base_validation_refined_rows"] = with_refined;
+  if (context.progress != nullptr) {
+    context.progress->note(fmt::format("base validation accuracy {:.2f}% (refined rows {:.2f}%)", plain, with_refined));
+  }
 }
 
 // calculate_means (FSCIL_model_define_V1.py L188-L198): the shots' mean raw embeddings, nothing
@@ -133,10 +146,12 @@ void ArpMethod::learn_session(const SessionData& support, RunContext& /*context*
 
 torch::Tensor ArpMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }
 
-// forward_test (FSCIL_model_define_V1.py L162-L165): the relation head on every seen plain row.
+// forward_test (FSCIL_model_define_V1.py L162-L165): the relation head on every seen row, plain as
+// released, or refined under arp_test_rows=refined.
 torch::Tensor ArpMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
-  return relation_logits(embeddings, rows_->rows.slice(0, 0, seen_classes_->value()));
+  const torch::Tensor rows = rows_->rows.slice(0, 0, seen_classes_->value());
+  return relation_logits(embeddings, settings_.refined_test_rows ? refine_seen_rows(attention_, rows, base_classes_->value()) : rows);
 }
 
 // In eval mode and in chunks of samples: every pair is a row of the head's hidden layers.

@@ -27,7 +27,8 @@ TORCH_MODULE(ArpRows);
 // supports' means, every row is refined by the attention, and the batch is scored against the
 // refined rows by the relation head. Training stops early on the base-validation loss. Sessions
 // add the shots' mean embeddings as rows and train nothing; test scores the plain rows with the
-// relation head: the refinement acts in base training only, as released.
+// relation head: the refinement acts in base training only, as released (arp_test_rows=refined
+// refines the rows at test as well).
 class ArpMethod : public ModuleMethod {
  public:
   explicit ArpMethod(const ParameterSet& params);
@@ -43,15 +44,15 @@ class ArpMethod : public ModuleMethod {
   // The relation head's logits against `rows`, in eval mode.
   torch::Tensor relation_logits(const torch::Tensor& embeddings, const torch::Tensor& rows);
   double validation_loss(const SessionData& validation, std::int64_t classes);
-  void record_refinement(RunContext& context);
+  void record_base_scores(RunContext& context);
 
   ArpSettings settings_;
   ResNet18Encoder encoder_{nullptr};
   ArpRows rows_{nullptr};
   RelationHead relation_{nullptr};
-  // Used in base training only (no session or test calls it), so not part of the model's state.
-  RefinementAttention attention_{nullptr};
+  RefinementAttention attention_{nullptr};  // base training; test too under arp_test_rows=refined
   ClassCount seen_classes_{nullptr};
+  ClassCount base_classes_{nullptr};
 };
 
 MethodEntry arp_entry();

@@ -34,4 +34,14 @@ torch::Tensor refine_task_rows(RefinementAttention& attention, const torch::Tens
   return attention->forward(rows.index_copy(0, task_classes, means), rows.index_fill(0, task_classes, 0.0));
 }
 
+torch::Tensor refine_seen_rows(RefinementAttention& attention, const torch::Tensor& rows, std::int64_t base) {
+  const bool was_training = attention->is_training();
+  attention->eval();
+  torch::Tensor keys = rows.clone();
+  keys.slice(0, base).zero_();
+  const torch::Tensor refined = attention->forward(rows, keys);
+  attention->train(was_training);
+  return refined;
+}
+
 }  // namespace fscil

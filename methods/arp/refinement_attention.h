@@ -30,4 +30,9 @@ TORCH_MODULE(RefinementAttention);
 torch::Tensor refine_task_rows(RefinementAttention& attention, const torch::Tensor& rows,
                                const torch::Tensor& task_classes, const torch::Tensor& means);
 
+// The rows a test scores under arp_test_rows=refined, in eval mode: the first `seen` rows, of which
+// those from `base` on are the sessions' shot means. As a task's replaced rows in training, those
+// means are queries whose keys are zero; the base rows are queries and keys.
+torch::Tensor refine_seen_rows(RefinementAttention& attention, const torch::Tensor& rows, std::int64_t base);
+
 }  // namespace fscil

@@ -11,6 +11,7 @@
 #include "methods/arp/relation_head.h"
 #include "methods/arp/repeated_batch_statistics.h"
 #include "methods/common/embedding.h"
+#include "methods/common/module_state.h"
 #include "methods/common/resnet18.h"
 #include "tests/methods/tiny_base_session.h"
 
@@ -66,6 +67,24 @@ TEST(RefinementAttention, ATasksRowsAreTheMeansAndGetNoGradient) {
   }
   const torch::Tensor plain = refine_task_rows(attention, rows, torch::tensor({0, 2}), means);
   EXPECT_TRUE(torch::equal(plain, torch::tensor({{-1.0f, 1.0f}, {3.0f, -1.0f}, {2.0f, 0.0f}})));
+}
+
+TEST(RefinementAttention, AtTestTheNovelRowsAreQueriesWithZeroKeys) {
+  // Base row b = (1, 0), novel mean n = (0, 1). S = [b; n; b; 0].
+  // b: scores (1, 0, 1, 0) / sqrt 2 -> weights (e, 1, e, 1) / (2e + 2), e = exp(1/sqrt 2) = 2.028115;
+  //    attended = (2e, 1) / (2e + 2) = (0.669761, 0.165119); plus b.
+  // n: scores (0, 1, 0, 0) / sqrt 2 -> weights (1, e, 1, 1) / (e + 3); attended (2, e) / (e + 3)
+  //    = (0.397763, 0.403355); plus n.
+  RefinementAttention attention = identity_attention(2);
+  attention->train();
+  const torch::Tensor rows = torch::tensor({{1.0f, 0.0f}, {0.0f, 1.0f}});
+  const torch::Tensor refined = refine_seen_rows(attention, rows, 1);
+  EXPECT_TRUE(torch::allclose(refined, torch::tensor({{1.669761f, 0.165119f}, {0.397763f, 1.403355f}}), 1e-5))
+      << refined;
+  EXPECT_TRUE(attention->is_training());  // scored in eval mode, and left as it was
+  // Every row a base row: the rows are queries and keys, as in base training's diagnostic.
+  attention->eval();
+  EXPECT_TRUE(torch::equal(refine_seen_rows(attention, rows, 2), attention->forward(rows, rows)));
 }
 
 TEST(RelationHead, ScoresTheConcatenatedUnitPairAsReleased) {
@@ -289,6 +308,35 @@ TEST(ArpMethod, LearnsBaseRowsFromZeroAndASessionAddsTheShotMeansOnly) {
   const torch::Tensor logits = method.classify(embeddings);
   EXPECT_EQ(logits.sizes(), (std::vector<std::int64_t>{10, 8}));
   EXPECT_TRUE(torch::equal(logits, method.classify(embeddings)));
+  // Under arp_test_rows=refined the same training (the option is read at test only) keeps the
+  // attention in the model, and test scores the refined seen rows instead.
+  EXPECT_EQ(after.count("attention.query.weight"), 0u);  // plain: not part of the model
+  ParameterSet refined_params = tiny_arp_params();
+  refined_params.set("arp_test_rows", "refined");
+  torch::manual_seed(6);
+  ArpMethod refined(refined_params);
+  RunContext refined_context = tiny_context(6);
+  refined.train_base(tiny_base(), refined_context);
+  refined.learn_session(support, refined_context);
+  const MethodState refined_state = refined.save_state();
+  EXPECT_TRUE(torch::equal(refined_state.at("rows.rows"), after.at("rows.rows")));
+  const torch::Tensor rows = refined_state.at("rows.rows").slice(0, 0, 8);
+  torch::Tensor expected;
+  {
+    torch::NoGradGuard no_grad;
+    torch::Tensor keys = rows.clone();
+    keys.slice(0, 6).zero_();
+    RefinementAttention attention(rows.size(1));
+    take_module(refined_state, "attention.", *attention);
+    attention->eval();
+    RelationHead relation(rows.size(1));
+    take_module(refined_state, "relation.", *relation);
+    relation->eval();
+    expected = relation->forward(embeddings, attention->forward(rows, keys));
+  }
+  const torch::Tensor refined_logits = refined.classify(embeddings);
+  EXPECT_TRUE(torch::allclose(refined_logits, expected, 1e-5, 1e-6));
+  EXPECT_FALSE(torch::allclose(refined_logits, logits, 1e-3, 1e-3));
 }
 
 }  // namespace
