@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "methods/adbs/adbs_method.h"
+#include "methods/amfo/amfo_method.h"
 #include "methods/arp/arp_method.h"
 #include "methods/comp_fscil/comp_fscil_method.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
@@ -31,6 +32,7 @@ std::vector<MethodEntry>& registry() {
     entries.push_back(dsn_entry());
     entries.push_back(comp_fscil_entry());
     entries.push_back(arp_entry());
+    entries.push_back(amfo_entry());
     return entries;
   }();
   return table;

@@ -33,6 +33,7 @@ std::pair<std::string, std::string> paper_row_of(const std::string& method, cons
   if (method == "dsn") return {"results_" + suffix, "DSN"};
   if (method == "comp-fscil") return {"results_" + suffix, "Comp-FSCIL"};
   if (method == "arp") return {"results_" + suffix, "ARP"};
+  if (method == "amfo") return {"results_" + suffix, "AMFO"};
   if (method.rfind("cop-fscil/", 0) == 0) return {"ablation_" + suffix, method};
   return {};
 }

@@ -36,6 +36,14 @@ torch::Tensor embed_maps_in_batches(ResNet18Encoder& encoder, const SampleRows& 
                                 [&](const torch::Tensor& batch) { return encoder->forward_map(batch).contiguous(); });
 }
 
+torch::Tensor embed_with_first_stage_in_batches(ResNet18Encoder& encoder, const SampleRows& features,
+                                                std::int64_t batch_size) {
+  return encode_in_eval_batches(encoder, features, batch_size, [&](const torch::Tensor& batch) {
+    const auto [embedding, first_stage] = encoder->forward_with_first_stage(batch);
+    return torch::cat({embedding, first_stage}, 1);
+  });
+}
+
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
                           const std::vector<std::int64_t>& classes) {
   std::vector<torch::Tensor> means;

@@ -17,6 +17,11 @@ torch::Tensor embed_in_batches(ResNet18Encoder& encoder, const SampleRows& featu
 // The same for the encoder's last map before pooling (ResNet18EncoderImpl::forward_map): N x D x h x w.
 torch::Tensor embed_maps_in_batches(ResNet18Encoder& encoder, const SampleRows& features, std::int64_t batch_size = 256);
 
+// The embedding with, beside it, the first stage's pooled map (ResNet18EncoderImpl::
+// forward_with_first_stage): N x (D + widths[0]), the embedding first.
+torch::Tensor embed_with_first_stage_in_batches(ResNet18Encoder& encoder, const SampleRows& features,
+                                                std::int64_t batch_size = 256);
+
 // Mean embedding per class, rows in the order of `classes` (any shape per sample).
 torch::Tensor class_means(const torch::Tensor& embeddings, const torch::Tensor& labels,
                           const std::vector<std::int64_t>& classes);

@@ -184,14 +184,28 @@ torch::Tensor ResNet18EncoderImpl::forward(const torch::Tensor& x, const InputNo
   return torch::adaptive_avg_pool2d(forward_map(x, after_input_norm), {1, 1}).flatten(1);
 }
 
-torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm) {
+std::pair<torch::Tensor, torch::Tensor> ResNet18EncoderImpl::forward_with_first_stage(const torch::Tensor& x) {
+  torch::Tensor first_stage_map;
+  const torch::Tensor embedding = torch::adaptive_avg_pool2d(forward_map(x, {}, &first_stage_map), {1, 1}).flatten(1);
+  return {embedding, torch::adaptive_avg_pool2d(first_stage_map, {1, 1}).flatten(1)};
+}
+
+torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm,
+                                               torch::Tensor* first_stage_map) {
   if (!is_training() && fold_norms_at_inference_) {
     // bn0 at inference: a scale and shift per Mel bin, broadcast over the contiguous input.
     const auto [scale, shift] = inference_affine(input_norm);
     torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
     if (after_input_norm) normalised = after_input_norm(normalised);
     const torch::Tensor out = pool_stem_map(folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_());
-    return stages->forward(out);
+    if (first_stage_map == nullptr) return stages->forward(out);
+    // Block by block, as the Sequential runs them, to keep the first stage's output.
+    torch::Tensor map = out;
+    for (std::size_t block = 0; block < stages->size(); ++block) {
+      map = stages->ptr(block)->as<BasicBlock>()->forward(map);
+      if (block == 1) *first_stage_map = map;
+    }
+    return map;
   }
   // bn0 normalises each Mel bin, so the bins become the channel axis for it.
   torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
@@ -203,6 +217,7 @@ torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const Inp
     out = !recompute || (parameters.empty() && !out.requires_grad())
               ? run_segment(segment, out)
               : RecomputedSegment::apply(out, this, static_cast<std::int64_t>(segment), at::TensorList(parameters));
+    if (segment == 1 && first_stage_map != nullptr) *first_stage_map = out;
   }
   return out;
 }

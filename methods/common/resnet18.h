@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
@@ -55,8 +56,13 @@ class ResNet18EncoderImpl : public torch::nn::Module {
  public:
   explicit ResNet18EncoderImpl(const ResNet18Options& options);
   torch::Tensor forward(const torch::Tensor& x, const InputNormHook& after_input_norm = {});
-  // The last stage's map before the global pooling, N x D x h x w: what forward() averages.
-  torch::Tensor forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm = {});
+  // The last stage's map before the global pooling, N x D x h x w: what forward() averages. With
+  // `first_stage_map`, the first stage's output map (N x widths[0] x h1 x w1) is written there too.
+  torch::Tensor forward_map(const torch::Tensor& x, const InputNormHook& after_input_norm = {},
+                            torch::Tensor* first_stage_map = nullptr);
+  // forward() and, beside it, the first stage's map pooled globally (N x widths[0]): AMFO's
+  // shallow feature. The same embedding as forward().
+  std::pair<torch::Tensor, torch::Tensor> forward_with_first_stage(const torch::Tensor& x);
   std::int64_t embedding_size() const { return embedding_size_; }
   // Adds the inference cost of one C x n_mels x frames sample, layer by layer.
   void count_cost(ModelCost& cost, const std::string& name, const MapShape& input) const;

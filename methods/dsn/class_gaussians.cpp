@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "methods/common/embedding.h"
+
 namespace fscil {
 
 ClassGaussiansImpl::ClassGaussiansImpl(std::int64_t classes, std::int64_t embedding_size)
@@ -58,6 +60,15 @@ torch::Tensor sample_covariance(const torch::Tensor& rows) {
 torch::Tensor gaussian_factor(const torch::Tensor& covariance) {
   const auto [values, vectors] = torch::linalg::eigh(covariance.to(torch::kDouble), "L");
   return vectors * values.clamp_min(0).sqrt().unsqueeze(0);
+}
+
+std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                                          const std::vector<std::int64_t>& classes) {
+  std::vector<torch::Tensor> covariances;
+  for (std::int64_t c : classes) {
+    covariances.push_back(sample_covariance(embeddings.index_select(0, torch::nonzero(labels == c).view(-1))));
+  }
+  return {class_means(embeddings, labels, classes), torch::stack(covariances)};
 }
 
 }  // namespace fscil

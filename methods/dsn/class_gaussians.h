@@ -2,6 +2,7 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace fscil {
@@ -50,6 +51,11 @@ class ClassGaussiansImpl : public torch::nn::Module {
   std::vector<torch::Tensor> factors_;
 };
 TORCH_MODULE(ClassGaussians);
+
+// Mean and covariance (np.cov, N - 1) of each class's rows, in the order of `classes`
+// (DSN's Inc_train.py L165-L172 for the base classes, L192-L197 for a session's shots).
+std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& embeddings, const torch::Tensor& labels,
+                                                          const std::vector<std::int64_t>& classes);
 
 // np.cov of the rows (N x D), divided by N - 1; zeros for a single row (ours: np.cov gives NaN).
 torch::Tensor sample_covariance(const torch::Tensor& rows);

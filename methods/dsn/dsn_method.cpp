@@ -8,27 +8,13 @@
 #include "methods/common/embedding.h"
 #include "methods/common/session_order.h"
 #include "methods/common/shuffled_batches.h"
+#include "methods/dsn/gaussian_replay.h"
 #include "methods/dsn/session_loss.h"
 #include "methods/dsn/shot_confusion.h"
 
 namespace fscil {
 
 namespace F = torch::nn::functional;
-
-namespace {
-
-// Mean and covariance (np.cov, N - 1) of each class's rows, in the order of `classes`
-// (Inc_train.py L165-L172 for the base classes, L192-L197 for a session's shots).
-std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& embeddings, const torch::Tensor& labels,
-                                                          const std::vector<std::int64_t>& classes) {
-  std::vector<torch::Tensor> covariances;
-  for (std::int64_t c : classes) {
-    covariances.push_back(sample_covariance(embeddings.index_select(0, torch::nonzero(labels == c).view(-1))));
-  }
-  return {class_means(embeddings, labels, classes), torch::stack(covariances)};
-}
-
-}  // namespace
 
 DsnMethod::DsnMethod(const ParameterSet& params) : settings_(DsnSettings::from(params)) {}
 
@@ -112,7 +98,7 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
                               const torch::Tensor& shot_means, const torch::Tensor& shot_covariances,
                               RunContext& context) {
   const int session = supports_->sessions();
-  const std::int64_t classes = supports_->classes_of(session), seen = first + classes, base = context.base_classes;
+  const std::int64_t classes = supports_->classes_of(session), base = context.base_classes;
   for (auto& parameter : head_->parameters()) parameter.set_requires_grad(false);
   for (auto& parameter : supports_->parameters()) parameter.set_requires_grad(false);
   const std::vector<torch::Tensor> trained{supports_->head(session), supports_->branch(session)};
@@ -131,24 +117,11 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
     oracle_labels = context.oracle_test->labels;
   }
   BestEpoch best({supports_.get()});
-  int kept_epoch = -1;
-  // `working`: the release's memory_mean / memory_cov, the shots' statistics re-estimated every
-  // refresh_every epochs (without augmentation, ours, the same each time) and calibrated after each
-  // epoch on top of the last calibration. `kept`: best_mean / best_cov. The release keeps a
-  // reference to the dict, so the calibrations after the kept epoch reach best_cov until the next
-  // re-estimation makes a new dict (L279, L354, L386).
-  torch::Tensor working_means, working_covariances, kept_means, kept_covariances;
-  torch::Tensor features, labels, is_real_shot;
+  GaussianReplay replay(*gaussians_, shots, shot_labels, first, base, shot_means, shot_covariances, counts,
+                        settings_.refresh_every);
   for (int epoch = 0; epoch < settings_.session_epochs; ++epoch) {
-    if (epoch % settings_.refresh_every == 0) {
-      working_means = shot_means.clone();
-      working_covariances = shot_covariances.clone();
-      gaussians_->blend(first, working_means, working_covariances);  // L279 -> L204
-      const GaussianDraws draws = gaussians_->draw(seen, base, first, counts);  // L280-L286
-      features = torch::cat({draws.features, shots});
-      labels = torch::cat({draws.labels, shot_labels});
-      is_real_shot = torch::cat({torch::zeros({draws.labels.size(0)}, torch::kBool), torch::ones({shots.size(0)}, torch::kBool)});
-    }
+    replay.start_epoch(epoch);
+    const torch::Tensor &features = replay.features(), &labels = replay.labels();
     const std::vector<torch::Tensor> batches =
         shuffled_batches(features.size(0), settings_.session_batch, context.generator);
     ShotConfusion confusion(base, first, classes);
@@ -159,7 +132,8 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       const torch::Tensor old_rows = rows.index({~is_new}), new_rows = rows.index({is_new});
       // Old classes' rows (drawn) pass with the stored gate, the previous step's (L329-L335); the
       // session's rows (its shots and draws) set the training gate from their batch mean (L326-L328).
-      std::vector<torch::Tensor> outputs{cosines(features.index_select(0, old_rows))};
+      std::vector<torch::Tensor> outputs;
+      outputs.push_back(cosines(features.index_select(0, old_rows)));
       torch::Tensor gate, new_output;
       if (new_rows.size(0) > 0) {
         const torch::Tensor new_features = features.index_select(0, new_rows);
@@ -177,7 +151,7 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       if (gate.defined()) {
         torch::NoGradGuard no_grad;
         supports_->gate(session).copy_(gate.detach());  // finish_train, L344 -> DSN.py L83-L84
-        const torch::Tensor shot_rows = is_real_shot.index_select(0, new_rows);
+        const torch::Tensor shot_rows = replay.is_real_shot().index_select(0, new_rows);
         confusion.record(new_output.detach().index({shot_rows}), labels.index_select(0, new_rows).index({shot_rows}));
       }
       cross_entropy += loss.cross_entropy.item<double>();
@@ -185,23 +159,10 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       compression += loss.compression.item<double>();
       ++steps;
     }
-    {
-      // After the epoch: calibrate the session's covariances with the base ones, blend them into
-      // the Gaussians, give confused old classes one more draw (L352-L357).
-      torch::NoGradGuard no_grad;
-      const torch::Tensor base_covariances = gaussians_->covariances().slice(0, 0, base);
-      std::vector<torch::Tensor> calibrated;
-      for (std::int64_t c = 0; c < classes; ++c) {
-        calibrated.push_back(calibrated_covariance(working_covariances[c], confusion.base_weights(c), base_covariances));
-      }
-      working_covariances.copy_(torch::stack(calibrated));
-      gaussians_->blend(first, working_means, working_covariances);
-      for (std::int64_t c = 0; c < classes; ++c) {
-        for (std::int64_t old : confused_old_classes(confusion.old_weights(c), settings_.top_k)) gaussians_->add_draw(old);
-      }
-      if (kept_epoch >= 0 && kept_epoch / settings_.refresh_every == epoch / settings_.refresh_every) {
-        kept_covariances = working_covariances.clone();
-      }
+    // After the epoch: calibrate and blend, then give confused old classes one more draw (L352-L357).
+    replay.end_epoch(epoch, confusion);
+    for (std::int64_t c = 0; c < classes; ++c) {
+      for (std::int64_t old : confused_old_classes(confusion.old_weights(c), settings_.top_k)) gaussians_->add_draw(old);
     }
     const double n = std::max(steps, 1);
     context.log_epoch("session", epoch + 1, settings_.session_epochs,
@@ -214,19 +175,11 @@ void DsnMethod::train_session(const torch::Tensor& shots, const torch::Tensor& s
       torch::NoGradGuard no_grad;
       const double score = 100.0 * (cosines(oracle).argmax(1) == oracle_labels).to(torch::kDouble).mean().item<double>();
       context.training_log.back().values["selection_score"] = score;
-      if (best.consider("session", epoch + 1, score)) {
-        kept_epoch = epoch;
-        kept_means = working_means.clone();
-        kept_covariances = working_covariances.clone();
-      }
+      if (best.consider("session", epoch + 1, score)) replay.keep(epoch);
     }
   }
   best.restore(context, "session");
-  if (kept_epoch < 0) {
-    kept_means = working_means;
-    kept_covariances = working_covariances;
-  }
-  if (kept_means.defined()) gaussians_->blend(first, kept_means, kept_covariances);  // L398
+  replay.finish();  // L398
   context.diagnostics["session_gate_mean"] = supports_->gate(session).mean().item<double>();
 }
 

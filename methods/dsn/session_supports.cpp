@@ -15,10 +15,15 @@ torch::Tensor SessionSupportsImpl::branch_cosines(int session, const torch::Tens
   return row_cosines(embeddings, branches_.at(session - 1));
 }
 
+torch::Tensor SessionSupportsImpl::node(const torch::Tensor& projected, const torch::Tensor& branch_cosines,
+                                        const torch::Tensor& gate, double gamma) {
+  return dsn_l2_norm(gamma * projected + branch_cosines * gate);
+}
+
 torch::Tensor SessionSupportsImpl::head_cosines(int session, const torch::Tensor& projected,
                                                 const torch::Tensor& branch_cosines, const torch::Tensor& gate,
                                                 double gamma) const {
-  return row_cosines(dsn_l2_norm(gamma * projected + branch_cosines * gate), heads_.at(session - 1));
+  return row_cosines(node(projected, branch_cosines, gate, gamma), heads_.at(session - 1));
 }
 
 torch::Tensor training_gate(const torch::Tensor& branch_cosines, int epoch) {

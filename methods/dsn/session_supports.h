@@ -21,12 +21,16 @@ class SessionSupportsImpl : public torch::nn::Module {
 
   // a = cos(x, branch rows) on the raw embedding x: N values per sample (L64).
   torch::Tensor branch_cosines(int session, const torch::Tensor& embeddings) const;
-  // cos(l2n(gamma u + a * gate), head rows) (L77-L79): the session's logits before the temperature.
+  // l2n(gamma u + a * gate) (L77-L78): the session's node, its head scores it.
+  static torch::Tensor node(const torch::Tensor& projected, const torch::Tensor& branch_cosines, const torch::Tensor& gate,
+                            double gamma);
+  // cos(node, head rows) (L79): the session's logits before the temperature.
   torch::Tensor head_cosines(int session, const torch::Tensor& projected, const torch::Tensor& branch_cosines,
                              const torch::Tensor& gate, double gamma) const;
 
   torch::Tensor& branch(int session) { return branches_.at(session - 1); }
   torch::Tensor& head(int session) { return heads_.at(session - 1); }
+  const torch::Tensor& head(int session) const { return heads_.at(session - 1); }
   // The stored gate (N): what the session's support is multiplied by at test (L75-L76).
   torch::Tensor& gate(int session) { return gates_.at(session - 1); }
   const torch::Tensor& gate(int session) const { return gates_.at(session - 1); }

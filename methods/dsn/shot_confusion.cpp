@@ -31,12 +31,12 @@ void ShotConfusion::record(const torch::Tensor& cosines, const torch::Tensor& la
 }
 
 torch::Tensor ShotConfusion::base_weights(std::int64_t cls) const {
-  if (shots_.at(cls) == 0) throw MethodError(fmt::format("dsn: session class {} had no shot in an epoch", cls));
+  if (shots_.at(cls) == 0) throw MethodError(fmt::format("session class {} had no shot in an epoch to weigh its covariance by", cls));
   return base_sums_[cls] / static_cast<double>(shots_[cls]);
 }
 
 torch::Tensor ShotConfusion::old_weights(std::int64_t cls) const {
-  if (shots_.at(cls) == 0) throw MethodError(fmt::format("dsn: session class {} had no shot in an epoch", cls));
+  if (shots_.at(cls) == 0) throw MethodError(fmt::format("session class {} had no shot in an epoch to weigh its covariance by", cls));
   return old_sums_[cls] / static_cast<double>(shots_[cls]);
 }
 

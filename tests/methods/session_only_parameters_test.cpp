@@ -108,7 +108,12 @@ INSTANTIATE_TEST_SUITE_P(
               {"dsn_refresh_every", "1"}, {"dsn_new_samples", "3"}, {"dsn_old_samples", "3"}, {"dsn_base_samples", "3"},
               {"dsn_sample_k", "2"}, {"dsn_top_k", "1"}}},
         Case{"comp-fscil", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"comp_session_steps", "3"}},
-             {{"comp_session_steps", "2"}, {"comp_session_lr", "0.05"}}}),
+             {{"comp_session_steps", "2"}, {"comp_session_lr", "0.05"}}},
+        Case{"amfo", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"amfo_session_epochs", "3"}},
+             {{"amfo_session_fusion_weight", "5"}, {"amfo_session_margin_weight", "1"}, {"amfo_session_binary_weight", "0.2"},
+              {"amfo_gamma", "0.5"}, {"amfo_r", "0.1"}, {"amfo_session_epochs", "2"}, {"amfo_session_lr", "0.05"},
+              {"amfo_session_batch", "64"}, {"amfo_refresh_every", "1"}, {"amfo_new_samples", "3"},
+              {"amfo_old_samples", "3"}}}),
     [](const ::testing::TestParamInfo<Case>& info) {
       std::string name = info.param.method;
       std::replace(name.begin(), name.end(), '-', '_');

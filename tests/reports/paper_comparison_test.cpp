@@ -48,6 +48,7 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
   table.push_back({"results_ns100", "NS-100", "DSN", "TPAMI23", {100.00, 98.05, 97.32}, 11.11, 93.76, 1.30});
   table.push_back({"results_lmt108", "LMT108", "Comp-FSCIL", "ICML24", {42.54, 20.47, 17.37}, 33.24, 16.21, 13.79});
   table.push_back({"results_ns100", "NS-100", "ARP", "Interspeech23", {99.96, 95.95, 93.60}, 20.27, 89.26, 2.48});
+  table.push_back({"results_ls100", "LS-100", "AMFO", "TASLP24", {92.63, 92.25, 92.20}, 7.64, 89.24, 1.07});
   const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("adbs", "haptex", 1, {80, 40, 20}),
                                                        run_with_accuracies("adbs", "ls100", 1, {80, 40, 20}),
                                                        run_with_accuracies("pan", "haptex", 1, {80, 40, 20}),
@@ -57,10 +58,12 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
                                                        run_with_accuracies("comp-fscil", "lmt108", 1, {80, 40, 20}),
                                                        run_with_accuracies("comp-fscil", "ls100", 1, {80, 40, 20}),
                                                        run_with_accuracies("arp", "lmt108", 1, {80, 40, 20}),
-                                                       run_with_accuracies("arp", "ns100", 1, {80, 40, 20})}),
+                                                       run_with_accuracies("arp", "ns100", 1, {80, 40, 20}),
+                                                       run_with_accuracies("amfo", "haptex", 1, {80, 40, 20}),
+                                                       run_with_accuracies("amfo", "ls100", 1, {80, 40, 20})}),
                                        table);
-  // the paper's audio tables have no ADBS or Comp-FSCIL row, its tactile tables no PAN, DSN or ARP row
-  ASSERT_EQ(rows.size(), 5u);
+  // the paper's audio tables have no ADBS or Comp-FSCIL row, its tactile tables no PAN, DSN, ARP or AMFO row
+  ASSERT_EQ(rows.size(), 6u);
   EXPECT_EQ(rows[0].paper_method, "ADBS");
   EXPECT_EQ(rows[0].paper, (std::vector<double>{92.95, 83.83, 72.58, 34, 70.38, 4.77}));
   EXPECT_EQ(rows[1].paper_method, "PAN");
@@ -71,6 +74,8 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
   EXPECT_EQ(rows[3].paper, (std::vector<double>{42.54, 20.47, 17.37, 33.24, 16.21, 13.79}));
   EXPECT_EQ(rows[4].paper_method, "ARP");
   EXPECT_EQ(rows[4].paper, (std::vector<double>{99.96, 95.95, 93.60, 20.27, 89.26, 2.48}));
+  EXPECT_EQ(rows[5].paper_method, "AMFO");
+  EXPECT_EQ(rows[5].paper, (std::vector<double>{92.63, 92.25, 92.20, 7.64, 89.24, 1.07}));
 }
 
 TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {
