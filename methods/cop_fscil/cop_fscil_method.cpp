@@ -312,6 +312,9 @@ std::vector<MethodEntry> cop_fscil_entries() {
     entry.session_only_parameters.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
     // PSPC acts in sessions only: the variants with and without it share their base.
     entry.shared_base_key = components.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa";
+    // Smoke embeds 10 probes per shot, not the paper's 100: it checks the machinery, and the 100
+    // probes' embeddings were a quarter of the reference protocol's time (ours).
+    if (components.pspc) entry.profile_defaults["smoke"].push_back({"pspc_probes", "10"});
     return entry;
   };
   return {variant("cop-fscil/cpi", "CoP-FSCIL ablation: pits-sc with context-probing intervention in "
