@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
 #include <string>
@@ -48,6 +49,30 @@ struct InputShape {
 // on the test split (test_oracle: numbers inflated by looking at test, for measuring by how much).
 enum class EpochSelection { last, validation, test_oracle };
 
+// A method's trained state as named tensors (checkpoints at session boundaries).
+using MethodState = std::map<std::string, torch::Tensor>;
+
+// A stage of a base session as it ended (e.g. PITS-SC's pretraining): what a method whose same
+// stage it is continues from, exactly as if it had trained the stage itself.
+struct TrainedStage {
+  MethodState state;                 // the modules and anything else the stage leaves
+  std::mt19937_64 generator;         // RunContext::generator after it
+  torch::Tensor torch_random_state;  // LibTorch's, after it
+  std::vector<EpochLog> training_log;
+  std::map<std::string, double> diagnostics;
+  double seconds = 0;  // RunContext::session_clock at its end
+};
+
+// Where the runner keeps stages that several methods train alike (MethodEntry::shared_stages
+// names them and the parameters read only after them): in a command, and in the stage cache.
+// The runner names each stage's identity from the run's values, so a method asks by stage name.
+class StageStore {
+ public:
+  virtual ~StageStore() = default;
+  virtual std::optional<TrainedStage> find(const std::string& stage) = 0;
+  virtual void store(const std::string& stage, const TrainedStage& trained) = 0;
+};
+
 struct RunContext {
   std::uint64_t seed = 0;
   std::mt19937_64 generator;
@@ -80,7 +105,9 @@ struct RunContext {
   std::map<std::string, double> diagnostics;
   // Every epoch of the session being trained, stored and cleared like `diagnostics`.
   std::vector<EpochLog> training_log;
-  Stopwatch session_clock;  // restarted by the runner when a session begins
+  Stopwatch session_clock;  // restarted by the runner when a session begins; the session's train time
+  // Stages shared between methods (null: none; a method then trains every stage itself).
+  StageStore* stages = nullptr;
 
   // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, shows
   // it as progress, and throws StopRequested when a stop was asked (core/stop_request.h). A loss
@@ -103,9 +130,6 @@ struct ReplayFootprint {
   std::int64_t samples = 0;
   std::int64_t bytes = 0;
 };
-
-// A method's trained state as named tensors (checkpoints at session boundaries).
-using MethodState = std::map<std::string, torch::Tensor>;
 
 // A FSCIL method. The runner calls train_base once, then learn_session per incremental
 // session, and tests after each through embed() and classify(). A method reads every

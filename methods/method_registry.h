@@ -40,6 +40,10 @@ struct MethodEntry {
   // RunContext::selection never changes what train_base() leaves (its epochs are chosen in sessions
   // only): the stage cache shares one base between selections.
   bool base_ignores_selection = false;
+  // Stages of its base session that other methods train alike (the runner keeps each for them:
+  // RunContext::stages), each with the parameters read only after it; a stage's identity leaves
+  // those and session_only_parameters out, so that pits-sc and cop-fscil/cpi share a pretraining.
+  std::map<std::string, std::set<std::string>> shared_stages = {};
   // Methods that differ only after the base session name the same key: the runner trains that base
   // once per seed and hands it on (Method::continue_from_base). Empty: the method shares none.
   std::string shared_base_key = {};

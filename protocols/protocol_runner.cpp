@@ -164,7 +164,6 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     SessionOutcome outcome;
     outcome.session = session;
     outcome.seen_classes = plan.seen_after(session);
-    Stopwatch train_clock;
     context.diagnostics.clear();
     context.training_log.clear();
     context.session_clock = Stopwatch();
@@ -177,7 +176,8 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
       context.diagnostics["max_memory_recomputed_passes"] = static_cast<double>(context.memory_budget->take_exceeding_passes());
     }
     context.oracle_test = nullptr;
-    outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : train_clock.seconds();
+    // The session clock: a stage the method took over from another run (RunContext::stages) counts.
+    outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : context.session_clock.seconds();
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
     outcome.training_log = session == 0 && inherited_base ? inherited_base->training_log : context.training_log;
 

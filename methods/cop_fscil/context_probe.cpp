@@ -56,46 +56,6 @@ torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& range
   return padded_shift(perturbed, shifts);
 }
 
-torch::Tensor channel_statistics(const torch::Tensor& features) {
-  const torch::Tensor flat = features.flatten(2);
-  return torch::cat({flat.mean(2), flat.std(2)}, 1);
-}
-
-void ContextStatisticBank::push(const torch::Tensor& statistics) {
-  const torch::Tensor rows = statistics.detach();
-  if (!entries_.defined() || entries_.size(1) != rows.size(1)) {
-    entries_ = torch::zeros({capacity_, rows.size(1)}, rows.options());
-    count_ = next_ = 0;
-  }
-  for (std::int64_t i = 0; i < rows.size(0); ++i) {
-    entries_[next_].copy_(rows[i]);
-    next_ = (next_ + 1) % capacity_;
-    count_ = std::min(count_ + 1, capacity_);
-  }
-}
-
-torch::Tensor ContextStatisticBank::farthest_from(const torch::Tensor& statistics, std::int64_t rank,
-                                                  bool standardised) const {
-  TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
-  torch::Tensor queries = statistics.detach().view({-1, entries_.size(1)});
-  torch::Tensor candidates = stored();
-  if (standardised && count_ > 1) {
-    const torch::Tensor scale = candidates.std(0, /*unbiased=*/true, /*keepdim=*/true).clamp_min(1e-6);
-    queries = queries / scale;
-    candidates = candidates / scale;
-  }
-  const std::int64_t k = std::min(rank, count_ - 1) + 1;
-  const torch::Tensor ranked = std::get<1>(torch::cdist(queries, candidates).topk(k, 1));
-  return stored().index_select(0, ranked.select(1, k - 1));
-}
-
-torch::Tensor ContextStatisticBank::random_entries(std::int64_t n, std::mt19937_64& generator) const {
-  TORCH_CHECK(count_ > 0, "the context statistic bank is empty");
-  std::vector<std::int64_t> picked(static_cast<std::size_t>(n));
-  for (auto& index : picked) index = uniform_int(generator, 0, count_ - 1);
-  return stored().index_select(0, torch::tensor(picked));
-}
-
 torch::Tensor transfer_statistics(const torch::Tensor& features, const ContextStatisticBank& bank,
                                   const ContextProbeSettings& settings, std::int64_t rank, std::mt19937_64& generator) {
   const std::int64_t n = features.size(0), channels = features.size(1);

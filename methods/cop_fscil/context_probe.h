@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <random>
 
+#include "methods/common/context_statistics.h"
+
 namespace fscil {
 
 // Where CPI acts: after the encoder's per-Mel-bin input norm bn0, on the standardised map (as
@@ -26,31 +28,6 @@ struct ViewRanges {
 torch::Tensor random_view(const torch::Tensor& features, const ViewRanges& ranges, bool in_sample_spread_units,
                           std::mt19937_64& generator);
 
-// Per-sample, per-channel mean and standard deviation over the F x T plane: N x 2C ([mu; sigma]).
-torch::Tensor channel_statistics(const torch::Tensor& features);
-
-// The Context Statistic Bank: the most recent statistics seen (FIFO).
-class ContextStatisticBank {
- public:
-  explicit ContextStatisticBank(std::int64_t capacity = 1024) : capacity_(capacity) {}
-  void push(const torch::Tensor& statistics);  // N x 2C
-  std::int64_t size() const { return count_; }
-  // Per row of `statistics` (N x 2C), the entry ranked `rank` by Euclidean distance d_ij, farthest
-  // first (rank 0 = the farthest; clamped to the bank's size): N x 2C. With `standardised` each
-  // of the 2C statistics is first divided by its standard deviation over the bank, so that no
-  // channel's level dominates the distance.
-  torch::Tensor farthest_from(const torch::Tensor& statistics, std::int64_t rank = 0, bool standardised = false) const;
-  // N entries drawn uniformly.
-  torch::Tensor random_entries(std::int64_t n, std::mt19937_64& generator) const;
-
- private:
-  torch::Tensor stored() const { return entries_.narrow(0, 0, count_); }
-
-  std::int64_t capacity_;
-  torch::Tensor entries_;  // capacity x 2C ring; the first count_ rows are filled
-  std::int64_t count_ = 0, next_ = 0;
-};
-
 enum class ReferenceChoice { farthest, random };
 
 struct ContextProbeSettings {
@@ -60,7 +37,7 @@ struct ContextProbeSettings {
   bool standardised_distance = true;   // cpi_distance=standardised|raw
   bool ranked_references = true;       // cpi_references=ranked|same: probe n of a sample takes the n-th farthest
   double mix_alpha = 0.1;              // cpi_mix_alpha, MixStyle's Beta(0.1, 0.1) (ours)
-  std::int64_t bank_capacity = 1024;   // cpi_bank (ours)
+  std::int64_t bank_capacity = kContextBankCapacity;  // cpi_bank (ours)
 };
 
 // Pseudo-context statistic transfer: each sample's channel statistics are mixed with a bank
@@ -84,6 +61,7 @@ class ContextProbe {
     return random_view(features, settings_.view, settings_.space == ProbeSpace::raw, generator);
   }
   const ContextProbeSettings& settings() const { return settings_; }
+  ContextStatisticBank& bank() { return bank_; }
 
  private:
   ContextProbeSettings settings_;

@@ -181,6 +181,12 @@ void CopFscilMethod::after_pseudo_incremental(const SessionData& base, RunContex
                                    [&](const torch::Tensor& batch) { encoder_->forward(batch); });
 }
 
+bool CopFscilMethod::pretraining_shareable(const RunContext& context) const {
+  const ContextProbeSettings& cpi = cop_settings_.cpi;
+  return PitsScMethod::pretraining_shareable(context) && !components_.pcqa && cop_settings_.pretrain_coverage == 0 &&
+         cpi.space == ProbeSpace::standardised && cpi.bank_capacity == kContextBankCapacity;
+}
+
 torch::Tensor CopFscilMethod::embed(const torch::Tensor& features) {
   const torch::Tensor embeddings = embed_in_batches(encoder_, features);
   if (!components_.pcqa) return embeddings;
@@ -310,6 +316,9 @@ std::vector<MethodEntry> cop_fscil_entries() {
       return std::make_unique<CopFscilMethod>(params, components);
     };
     entry.session_only_parameters.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
+    // Its own values never shape PITS-SC's pretraining; where one would (CPI in pretraining, the
+    // bank, PCQA), pretraining_shareable() says so and the run trains its own.
+    entry.shared_stages[PitsScMethod::kPretrainingStage].merge(cop_fscil_parameter_names());
     // PSPC acts in sessions only: the variants with and without it share their base.
     entry.shared_base_key = components.pcqa ? "cop-fscil:pcqa" : "cop-fscil:no-pcqa";
     // Smoke embeds 10 probes per shot, not the paper's 100: it checks the machinery, and the 100

@@ -43,6 +43,9 @@ class CopFscilMethod : public PitsScMethod {
   void perturb_episode(PitEpisode& episode, RunContext& context) override;
   bool episodes_keep_running_statistics() const override;
   void after_pseudo_incremental(const SessionData& base, RunContext& context) override;
+  // PITS-SC's pretraining is CPI's when CPI does not act in it and no adapter trains with it.
+  bool pretraining_shareable(const RunContext& context) const override;
+  ContextStatisticBank& context_bank() override { return probe_.bank(); }
   // PSPC's z_hat of the originals' encoder embeddings (N x D) and of their probes' (N_ps x N x D).
   std::pair<torch::Tensor, torch::Tensor> pspc_embeddings(const torch::Tensor& original, const torch::Tensor& probes);
 

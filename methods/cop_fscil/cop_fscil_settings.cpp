@@ -80,4 +80,12 @@ std::int64_t CopFscilSettings::sensitive_dim_for(std::int64_t dim) const {
 
 int default_pspc_probes(std::int64_t values_per_sample) { return values_per_sample <= 32768 ? 100 : 10; }
 
+std::set<std::string> cop_fscil_parameter_names() {
+  const ParameterSet defaults;
+  CopFscilSettings::from(defaults);
+  std::set<std::string> names;
+  for (const auto& [name, value] : defaults.used()) names.insert(name);
+  return names;
+}
+
 }  // namespace fscil

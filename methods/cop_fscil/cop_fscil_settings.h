@@ -1,4 +1,6 @@
 #pragma once
+#include <set>
+#include <string>
 #include <cstdint>
 
 #include "methods/cop_fscil/context_probe.h"
@@ -57,5 +59,8 @@ struct CopFscilSettings {
 // The paper's N_ps for an input of this many values per sample: HapTex-sized inputs (5 x 64 x 24)
 // get 100 probes, LMT108-sized ones (3 x 64 x 493) 10; the boundary between them is ours.
 int default_pspc_probes(std::int64_t values_per_sample);
+
+// Every parameter CopFscilSettings::from() reads, as it reads them (never a list kept by hand).
+std::set<std::string> cop_fscil_parameter_names();
 
 }  // namespace fscil

@@ -13,6 +13,7 @@
 #include "methods/common/mixing.h"
 #include "methods/common/running_statistics_guard.h"
 #include "methods/common/supervised_training.h"
+#include "methods/common/torch_random_state.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
 #include "core/random_draws.h"
@@ -32,7 +33,14 @@ void PitsScMethod::build_network(RunContext& context) {
 TrainingEmbedding PitsScMethod::training_embedding(const torch::Tensor& features, const InputNormHook& mix,
                                                    const torch::Tensor& probe_rows, RunContext& /*context*/) {
   if (probe_rows.defined()) throw MethodError("pits-sc has no probes to replace rows with");
-  return {encoder_->forward(features, mix), {}};
+  // Records the map where cop-fscil's CPI acts (after bn0 and the mix), as its probe's bank does.
+  return {encoder_->forward(features,
+                            [&](const torch::Tensor& map) {
+                              const torch::Tensor mixed = mix ? mix(map) : map;
+                              recorded_contexts_.push(channel_statistics(mixed));
+                              return mixed;
+                            }),
+          {}};
 }
 
 void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
@@ -41,7 +49,10 @@ void PitsScMethod::train_base(const SessionData& base, RunContext& context) {
   // epoch only when it scores at least the best pretraining epoch (one max_acc slot,
   // models/pitsc/fscil_trainer.py L91-97, base.py L33 at b4d313ff).
   BestEpoch best(selected_modules());
-  pretrain(base, best, context);
+  if (!take_shared_pretraining(context)) {
+    pretrain(base, best, context);
+    share_pretraining(context);
+  }
   reset_base_rows(base, context);
   report_validation(context, "pretraining");
   train_pseudo_incremental(base, best, context);
@@ -90,6 +101,35 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
   });
   best.restore(context, "pretraining");
   means.record(context.diagnostics, "pretraining");
+}
+
+bool PitsScMethod::pretraining_shareable(const RunContext& context) const {
+  return context.stages != nullptr && context.selection == EpochSelection::last;
+}
+
+bool PitsScMethod::take_shared_pretraining(RunContext& context) {
+  if (!pretraining_shareable(context)) return false;
+  std::optional<TrainedStage> stage = context.stages->find(kPretrainingStage);
+  if (!stage) return false;
+  take_module(stage->state, "encoder.", *encoder_);
+  take_module(stage->state, "classifier.", *classifier_);
+  context_bank().restore_from(stage->state, "context_bank.");
+  context.generator = stage->generator;
+  restore_torch_random_state(stage->torch_random_state);
+  context.training_log.insert(context.training_log.begin(), stage->training_log.begin(), stage->training_log.end());
+  context.diagnostics.insert(stage->diagnostics.begin(), stage->diagnostics.end());
+  context.session_clock = Stopwatch::started_seconds_ago(stage->seconds);
+  return true;
+}
+
+void PitsScMethod::share_pretraining(RunContext& context) {
+  if (!pretraining_shareable(context)) return;
+  TrainedStage stage{{}, context.generator, torch_random_state(), context.training_log, context.diagnostics,
+                     context.session_clock.seconds()};
+  put_module(stage.state, "encoder.", *encoder_);
+  put_module(stage.state, "classifier.", *classifier_);
+  context_bank().save_into(stage.state, "context_bank.");
+  context.stages->store(kPretrainingStage, stage);
 }
 
 std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {
@@ -232,6 +272,8 @@ MethodEntry pits_sc_entry() {
       {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});
   entry.sessions_keep_embedding = true;  // sessions fine-tune the classifier only
   entry.session_only_parameters = {"epochs_new", "lr_new", "lamda_proto"};
+  entry.shared_stages[PitsScMethod::kPretrainingStage] = {"pit_epochs", "pit_lr",   "pit_episodes", "pit_way",
+                                                          "pit_kept",   "pit_shot", "pit_query",    "pit_alpha"};
   return entry;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 #include <memory>
 
+#include "methods/common/context_statistics.h"
 #include "methods/common/resnet18.h"
 #include "methods/common/stochastic_classifier.h"
 #include "methods/method.h"
@@ -18,6 +19,10 @@ class BestEpoch;
 // cop-fscil builds on these stages through the protected hooks.
 class PitsScMethod : public Method {
  public:
+  // Its pretraining, as RunContext::stages shares it: cop-fscil/cpi's pretraining is the same to
+  // the bit (CPI acts in the pseudo-incremental episodes), so the two train it once.
+  static constexpr const char* kPretrainingStage = "pits-sc pretraining";
+
   explicit PitsScMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
@@ -52,6 +57,12 @@ class PitsScMethod : public Method {
   // After pseudo-incremental training, before the base rows are reset (cop-fscil may re-estimate
   // the batch-norm statistics on clean base data here).
   virtual void after_pseudo_incremental(const SessionData& /*base*/, RunContext& /*context*/) {}
+  // True when this run's pretraining is the shared one (RunContext::stages): under the last epoch
+  // only, as a kept epoch spans both stages; cop-fscil adds its conditions.
+  virtual bool pretraining_shareable(const RunContext& context) const;
+  // The statistics of the maps pretraining trains on, the references CPI's probes start from:
+  // PITS-SC records them so that cop-fscil/cpi can continue from its pretraining.
+  virtual ContextStatisticBank& context_bank() { return recorded_contexts_; }
   // Base validation accuracy into the run's diagnostics (`base_validation_after_<stage>`) and
   // the progress notes.
   void report_validation(RunContext& context, const std::string& stage);
@@ -71,6 +82,9 @@ class PitsScMethod : public Method {
 
  private:
   void pretrain(const SessionData& base, BestEpoch& best, RunContext& context);
+  // The shared pretraining into the modules and `context`, when RunContext::stages holds it.
+  bool take_shared_pretraining(RunContext& context);
+  void share_pretraining(RunContext& context);
   void train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context);
   // The modules a stage's kept epoch (RunContext::selection) is a state of.
   std::vector<torch::nn::Module*> selected_modules();
@@ -81,6 +95,7 @@ class PitsScMethod : public Method {
   void reset_base_rows(const SessionData& base, RunContext& context);
 
   PitsScSettings settings_;
+  ContextStatisticBank recorded_contexts_;
 };
 
 // The pits-sc entry; the cop-fscil variants build theirs on its stages, profiles and hints.

@@ -146,6 +146,49 @@ TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodPar
   EXPECT_EQ(scores_in(result(after_damage)), trained);
 }
 
+// Issue 41, item 1: pits-sc and cop-fscil/cpi train one pretraining, in a command and through
+// the stage cache, to the numbers of a cpi that trained its own; a pretraining value misses it.
+TEST(Cli, PitsScAndCpiShareOnePretrainingToTheNumbersOfACpiThatTrainedIt) {
+  TemporaryDirectory cold, together, cache, first, warm, other;
+  const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --out ";
+  const std::string cached = " --cache-dir " + cache.path().string();
+  const auto cpi_result = [](const TemporaryDirectory& out) {
+    return out.path() / "results" / "cop-fscil_cpi__simtex-mini__seed1.json";
+  };
+  const auto base_training = [](const std::filesystem::path& file) {
+    std::ifstream record(file);
+    const std::string text(std::istreambuf_iterator<char>(record), {});
+    const std::string key = "\"base_training\": \"";
+    const std::size_t at = text.find(key);
+    if (at == std::string::npos) return std::string();
+    const std::size_t value = at + key.size();
+    return text.substr(value, text.find('"', value) - value);
+  };
+
+  ASSERT_EQ(run_cli("--methods cop-fscil/cpi --no-cache" + common + cold.path().string()).exit_code, 0);
+  const std::string trained = scores_in(cpi_result(cold));
+  EXPECT_EQ(std::count(trained.begin(), trained.end(), ':'), 3 * 7);
+  EXPECT_EQ(base_training(cpi_result(cold)), "");
+
+  const CommandResult both = run_cli("--methods pits-sc,cop-fscil/cpi --no-cache" + common + together.path().string());
+  ASSERT_EQ(both.exit_code, 0) << both.output;
+  EXPECT_EQ(scores_in(cpi_result(together)), trained);
+  EXPECT_EQ(base_training(cpi_result(together)), "pits-sc pretraining shared with pits-sc");
+
+  // pits-sc alone files its pretraining; a later cpi command continues from it.
+  ASSERT_EQ(run_cli("--methods pits-sc" + cached + common + first.path().string()).exit_code, 0);
+  const CommandResult later = run_cli("--methods cop-fscil/cpi" + cached + common + warm.path().string());
+  ASSERT_EQ(later.exit_code, 0) << later.output;
+  EXPECT_EQ(scores_in(cpi_result(warm)), trained);
+  EXPECT_EQ(base_training(cpi_result(warm)), "pits-sc pretraining from the stage cache");
+
+  const CommandResult changed =
+      run_cli("--methods cop-fscil/cpi --set pretrain_lr=0.05" + cached + common + other.path().string());
+  ASSERT_EQ(changed.exit_code, 0) << changed.output;
+  EXPECT_EQ(base_training(cpi_result(other)), "");
+  EXPECT_NE(scores_in(cpi_result(other)), trained);
+}
+
 // Issue 42, item 1: a loss that is not finite fails the run in one line that says where and with
 // what, keeps the runs finished before it, and leaves no base in the stage cache.
 TEST(Cli, ADivergedTrainingFailsTheRunAndKeepsNothingOfIt) {

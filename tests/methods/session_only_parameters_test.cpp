@@ -8,7 +8,7 @@
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
 #include "core/parameter_set.h"
-#include "tests/methods/tiny_base_session.h"
+#include "tests/methods/tiny_training.h"
 
 namespace fscil {
 namespace {
@@ -23,10 +23,7 @@ struct BaseOutcome {
 
 BaseOutcome train_base(const std::string& method_name, const Values& values,
                        EpochSelection selection = EpochSelection::last) {
-  ParameterSet params;
-  for (const auto& [key, value] : values) params.set(key, value);
-  torch::manual_seed(5);
-  const std::unique_ptr<Method> method = create_method(method_name, params);
+  const std::unique_ptr<Method> method = tiny_method(method_name, values);
   RunContext context = tiny_context(5);
   // Scored data for either selection: the base itself stands in for validation and test.
   const SessionData scored = tiny_base();
@@ -38,11 +35,7 @@ BaseOutcome train_base(const std::string& method_name, const Values& values,
 }
 
 void expect_same_base(const BaseOutcome& expected, const BaseOutcome& actual, const std::string& what) {
-  ASSERT_EQ(actual.state.size(), expected.state.size()) << what;
-  for (const auto& [name, tensor] : expected.state) {
-    ASSERT_EQ(actual.state.count(name), 1u) << what << ": " << name;
-    EXPECT_TRUE(torch::equal(actual.state.at(name), tensor)) << what << " changes " << name;
-  }
+  expect_same_state(expected.state, actual.state, what);
   EXPECT_EQ(actual.generator, expected.generator) << what;
   EXPECT_TRUE(torch::equal(actual.torch_state, expected.torch_state)) << what;
 }

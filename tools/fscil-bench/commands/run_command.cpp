@@ -24,6 +24,7 @@
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/saved_model.h"
+#include "protocols/shared_stages.h"
 #include "protocols/stage_cache.h"
 #include "core/stop_request.h"
 #include "protocols/session_schedule.h"
@@ -344,14 +345,16 @@ struct CommandRuns {
   std::vector<RunRecord> finished;
   std::map<std::pair<std::string, std::uint64_t>, TrainedBase> trained_bases;
   std::vector<RunRecord> records;
+  SharedStages shared_stages;  // stages of bases that methods share (MethodEntry::shared_stages)
 
   bool stage_caching() const { return !code.empty(); }
 };
 
 CommandRuns start_runs(const RunOptions& options, const CommandPlan& plan) {
-  CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}};
+  CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}, {}};
   // The executable is read only when the stage cache is in use.
   if (!options.no_cache && !options.no_stage_cache) runs.code = code_digest(runs.machine);
+  if (runs.stage_caching()) runs.shared_stages = SharedStages(runs.stage_cache);
   runs.run_values = plan.dataset_params.used();
   runs.run_values["front_end"] = plan.dataset.description.front_end.describe();
   runs.run_values["recompute"] = plan.recompute_activations ? "stages" : "none";
@@ -373,6 +376,7 @@ struct RunInProgress {
   RunContext context;
   std::string base_key;       // MethodEntry::shared_base_key
   std::string base_identity;  // the stage cache's key of its base; empty without the cache
+  std::unique_ptr<RunStages> stages;  // RunContext::stages
   std::optional<InheritedBase> inherited_base;
   std::string base_trained_by;
   bool base_from_cache = false;
@@ -382,19 +386,37 @@ struct RunInProgress {
   Stopwatch clock;
 };
 
+// Everything that shapes the run's base session, or a stage of it, filed as `trained`: the run's
+// values without those read only after it (`left_out`, and the sessions' own).
+std::string trained_identity(const RunOptions& options, const CommandPlan& plan, const CommandRuns& runs,
+                             const RunInProgress& run, const std::string& trained, const std::set<std::string>& left_out) {
+  std::map<std::string, std::string> method_values = run.params.used();
+  const MethodEntry& entry = method_entry(run.method_name);
+  for (const std::string& key : entry.session_only_parameters) method_values.erase(key);
+  for (const std::string& key : left_out) method_values.erase(key);
+  if (options.selection != "last" && !entry.base_ignores_selection) method_values["selection"] = options.selection;
+  return base_stage_identity({runs.code, trained, plan.dataset.cache_key, runs.run_values, run.seed, plan.threads,
+                              plan.evaluation, method_values, &plan.schedules[run.schedule]});
+}
+
 // The stage cache's key of the run's base: everything that shapes its base session.
 std::string base_identity_of(const RunOptions& options, const CommandPlan& plan, const CommandRuns& runs,
                              const RunInProgress& run) {
   if (!runs.stage_caching()) return {};
-  std::map<std::string, std::string> base_method_values = run.params.used();
-  const MethodEntry& entry = method_entry(run.method_name);
-  for (const std::string& key : entry.session_only_parameters) base_method_values.erase(key);
-  if (options.selection != "last" && !entry.base_ignores_selection) {
-    base_method_values["selection"] = options.selection;
+  return trained_identity(options, plan, runs, run, run.base_key.empty() ? run.method_name : run.base_key, {});
+}
+
+// The key of a stage the run's method shares (MethodEntry::shared_stages), in the command and,
+// with the stage cache, across commands.
+std::string shared_stage_identity_of(const RunOptions& options, const CommandPlan& plan, const CommandRuns& runs,
+                                     const RunInProgress& run, const std::string& stage) {
+  const auto& declared = method_entry(run.method_name).shared_stages;
+  const auto read_after = declared.find(stage);
+  if (read_after == declared.end()) {
+    throw MethodError(fmt::format("{} shares a stage \"{}\" that its registry entry does not declare", run.method_name,
+                                  stage));
   }
-  return base_stage_identity({runs.code, run.base_key.empty() ? run.method_name : run.base_key, plan.dataset.cache_key,
-                              runs.run_values, run.seed, plan.threads, plan.evaluation, base_method_values,
-                              &plan.schedules[run.schedule]});
+  return trained_identity(options, plan, runs, run, stage, read_after->second);
 }
 
 // A fresh method, as every run starts.
@@ -473,12 +495,14 @@ void choose_base(const RunOptions& options, const CommandPlan& plan, const Comma
   }
 }
 
-// After every session: the run's checkpoint, and after the base session the stage cache's entry.
+// After every session: the run's checkpoint; after the base session the stages it shares and
+// the stage cache's entry.
 void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, ProgressReporter& progress) {
   run.checkpoints.after_session = [&runs, &run, &progress](const std::vector<SessionOutcome>& so_far) {
     RunCheckpoint now{run.identity, so_far, run.seconds_before + run.clock.seconds(), run.method->save_state(),
                       run.context.generator, torch_random_state()};
     save_checkpoint(run.checkpoint_file, now);
+    if (so_far.size() == 1) run.stages->file_trained();
     if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
     try {
       now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
@@ -539,6 +563,9 @@ void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns&
   record.replay_bytes = replay.bytes;
   if (!run.base_trained_by.empty()) record.parameters["base_training"] = "shared with " + run.base_trained_by;
   if (run.base_from_cache) record.parameters["base_training"] = "from the stage cache";
+  if (!record.parameters.count("base_training") && !run.stages->taken().empty()) {
+    record.parameters["base_training"] = run.stages->taken();
+  }
   save_run_record(options.out, record);
   std::error_code ignored;
   fs::remove(run.checkpoint_file, ignored);  // the result file now holds everything
@@ -587,6 +614,11 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
   run.clock = Stopwatch();
   run.base_key = method_entry(run.method_name).shared_base_key;
   run.base_identity = base_identity_of(options, plan, runs, run);
+  run.stages = std::make_unique<RunStages>(
+      runs.shared_stages,
+      [&](const std::string& stage) { return shared_stage_identity_of(options, plan, runs, run, stage); },
+      run.method_name, &progress);
+  run.context.stages = run.stages.get();
   choose_base(options, plan, runs, run, progress);
   checkpoint_after_each_session(runs, run, progress);
   const auto outcomes = run_the_sessions(options, plan, run);

@@ -1,0 +1,80 @@
+#include "protocols/shared_stages.h"
+
+#include <fmt/format.h>
+
+#include "core/progress_reporter.h"
+
+namespace fscil {
+
+namespace {
+
+// A copy that later training of the modules it came from cannot touch.
+TrainedStage copy_of(const TrainedStage& stage) {
+  TrainedStage copy = stage;
+  for (auto& [name, tensor] : copy.state) tensor = tensor.clone();
+  if (copy.torch_random_state.defined()) copy.torch_random_state = copy.torch_random_state.clone();
+  return copy;
+}
+
+// A stage as the stage cache files it: a run checkpoint of the base session's stage.
+RunCheckpoint checkpoint_of(const TrainedStage& stage) {
+  SessionOutcome outcome;
+  outcome.train_seconds = stage.seconds;
+  outcome.diagnostics = stage.diagnostics;
+  outcome.training_log = stage.training_log;
+  return {{}, {outcome}, stage.seconds, stage.state, stage.generator, stage.torch_random_state};
+}
+
+TrainedStage stage_of(RunCheckpoint checkpoint) {
+  SessionOutcome& outcome = checkpoint.outcomes.front();
+  return {std::move(checkpoint.method_state), checkpoint.generator, checkpoint.torch_random_state,
+          std::move(outcome.training_log), std::move(outcome.diagnostics), outcome.train_seconds};
+}
+
+}  // namespace
+
+std::optional<SharedStages::Found> SharedStages::find(const std::string& identity, ProgressReporter* progress) const {
+  if (const auto kept = kept_.find(identity); kept != kept_.end()) {
+    return Found{copy_of(kept->second.first), "shared with " + kept->second.second};
+  }
+  if (!cache_) return std::nullopt;
+  std::string dropped;
+  std::optional<RunCheckpoint> cached = cache_->find(identity, dropped);
+  if (!dropped.empty() && progress != nullptr) {
+    progress->note(fmt::format("stage cache entry dropped, the stage is trained again: {}", dropped));
+  }
+  if (!cached) return std::nullopt;
+  return Found{stage_of(std::move(*cached)), "from the stage cache"};
+}
+
+void SharedStages::store(const std::string& identity, const TrainedStage& stage, const std::string& trained_by,
+                         ProgressReporter* progress) {
+  kept_.emplace(identity, std::make_pair(copy_of(stage), trained_by));
+  if (!cache_) return;
+  try {
+    cache_->store(identity, checkpoint_of(stage));
+  } catch (const std::exception& error) {
+    if (progress != nullptr) progress->note(fmt::format("stage cache not written: {}", error.what()));
+  }
+}
+
+std::optional<TrainedStage> RunStages::find(const std::string& stage) {
+  std::optional<SharedStages::Found> found = shared_.find(identity_of_(stage), progress_);
+  if (!found) return std::nullopt;
+  taken_ = stage + " " + found->source;
+  if (progress_ != nullptr) {
+    progress_->note(fmt::format("{}, trained in {:.1f} s", taken_, found->stage.seconds));
+  }
+  return std::move(found->stage);
+}
+
+void RunStages::store(const std::string& stage, const TrainedStage& trained) {
+  trained_.emplace_back(stage, copy_of(trained));
+}
+
+void RunStages::file_trained() {
+  for (const auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), trained, method_name_, progress_);
+  trained_.clear();
+}
+
+}  // namespace fscil

@@ -1,0 +1,65 @@
+#pragma once
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "methods/method.h"
+#include "protocols/stage_cache.h"
+
+namespace fscil {
+
+class ProgressReporter;
+
+// Stages that several methods' base sessions train alike (MethodEntry::shared_stages), kept for
+// the runs of one command and, with the stage cache, for later commands: the first run to train
+// one files it under its identity, and a run of another method with that identity takes it over.
+class SharedStages {
+ public:
+  // Without a cache, stages are shared within the command only.
+  explicit SharedStages(std::optional<StageCache> cache = std::nullopt) : cache_(std::move(cache)) {}
+
+  struct Found {
+    TrainedStage stage;
+    std::string source;  // "shared with <method>" or "from the stage cache"
+  };
+  // The stage filed under `identity`, if any; a damaged cache entry is removed and noted.
+  std::optional<Found> find(const std::string& identity, ProgressReporter* progress) const;
+  // Keeps a copy of `stage` for this command and files it in the cache (once; a cache that cannot
+  // be written is noted, as it costs time, not the run).
+  void store(const std::string& identity, const TrainedStage& stage, const std::string& trained_by,
+             ProgressReporter* progress);
+
+ private:
+  std::map<std::string, std::pair<TrainedStage, std::string>> kept_;
+  std::optional<StageCache> cache_;
+};
+
+// One run's StageStore: it names each stage's identity from the run's values (IdentityOf),
+// remembers which stage it took over, and from where, for the run's record, and holds the stages
+// it trained until its base session has ended well (file_trained()): a run that fails or stops
+// in its base session shares nothing of it.
+class RunStages : public StageStore {
+ public:
+  using IdentityOf = std::function<std::string(const std::string& stage)>;
+  RunStages(SharedStages& shared, IdentityOf identity_of, std::string method_name, ProgressReporter* progress)
+      : shared_(shared), identity_of_(std::move(identity_of)), method_name_(std::move(method_name)), progress_(progress) {}
+  std::optional<TrainedStage> find(const std::string& stage) override;
+  void store(const std::string& stage, const TrainedStage& trained) override;
+  // Shares the stages stored so far (once the base session has ended).
+  void file_trained();
+  // "<stage> shared with <method>" or "<stage> from the stage cache"; empty when it trained every stage.
+  const std::string& taken() const { return taken_; }
+
+ private:
+  SharedStages& shared_;
+  IdentityOf identity_of_;
+  std::string method_name_;
+  ProgressReporter* progress_;
+  std::string taken_;
+  std::vector<std::pair<std::string, TrainedStage>> trained_;
+};
+
+}  // namespace fscil
