@@ -69,8 +69,10 @@ struct TrainedStage {
 class StageStore {
  public:
   virtual ~StageStore() = default;
+  // A found stage is only read: a method copies it into its modules, never changes it in place.
   virtual std::optional<TrainedStage> find(const std::string& stage) = 0;
-  virtual void store(const std::string& stage, const TrainedStage& trained) = 0;
+  // `trained` holds copies (put_module's): nothing the method trains afterwards aliases them.
+  virtual void store(const std::string& stage, TrainedStage trained) = 0;
 };
 
 struct RunContext {

@@ -8,14 +8,6 @@ namespace fscil {
 
 namespace {
 
-// A copy that later training of the modules it came from cannot touch.
-TrainedStage copy_of(const TrainedStage& stage) {
-  TrainedStage copy = stage;
-  for (auto& [name, tensor] : copy.state) tensor = tensor.clone();
-  if (copy.torch_random_state.defined()) copy.torch_random_state = copy.torch_random_state.clone();
-  return copy;
-}
-
 // A stage as the stage cache files it: a run checkpoint of the base session's stage.
 RunCheckpoint checkpoint_of(const TrainedStage& stage) {
   SessionOutcome outcome;
@@ -35,7 +27,7 @@ TrainedStage stage_of(RunCheckpoint checkpoint) {
 
 std::optional<SharedStages::Found> SharedStages::find(const std::string& identity, ProgressReporter* progress) const {
   if (const auto kept = kept_.find(identity); kept != kept_.end()) {
-    return Found{copy_of(kept->second.first), "shared with " + kept->second.second};
+    return Found{kept->second.first, "shared with " + kept->second.second};
   }
   if (!cache_) return std::nullopt;
   std::string dropped;
@@ -47,15 +39,16 @@ std::optional<SharedStages::Found> SharedStages::find(const std::string& identit
   return Found{stage_of(std::move(*cached)), "from the stage cache"};
 }
 
-void SharedStages::store(const std::string& identity, const TrainedStage& stage, const std::string& trained_by,
+void SharedStages::store(const std::string& identity, TrainedStage stage, const std::string& trained_by,
                          ProgressReporter* progress) {
-  kept_.emplace(identity, std::make_pair(copy_of(stage), trained_by));
-  if (!cache_) return;
-  try {
-    cache_->store(identity, checkpoint_of(stage));
-  } catch (const std::exception& error) {
-    if (progress != nullptr) progress->note(fmt::format("stage cache not written: {}", error.what()));
+  if (cache_) {
+    try {
+      cache_->store(identity, checkpoint_of(stage));
+    } catch (const std::exception& error) {
+      if (progress != nullptr) progress->note(fmt::format("stage cache not written: {}", error.what()));
+    }
   }
+  kept_.emplace(identity, std::make_pair(std::move(stage), trained_by));
 }
 
 std::optional<TrainedStage> RunStages::find(const std::string& stage) {
@@ -68,12 +61,12 @@ std::optional<TrainedStage> RunStages::find(const std::string& stage) {
   return std::move(found->stage);
 }
 
-void RunStages::store(const std::string& stage, const TrainedStage& trained) {
-  trained_.emplace_back(stage, copy_of(trained));
+void RunStages::store(const std::string& stage, TrainedStage trained) {
+  trained_.emplace_back(stage, std::move(trained));
 }
 
 void RunStages::file_trained() {
-  for (const auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), trained, method_name_, progress_);
+  for (auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), std::move(trained), method_name_, progress_);
   trained_.clear();
 }
 

@@ -27,9 +27,9 @@ class SharedStages {
   };
   // The stage filed under `identity`, if any; a damaged cache entry is removed and noted.
   std::optional<Found> find(const std::string& identity, ProgressReporter* progress) const;
-  // Keeps a copy of `stage` for this command and files it in the cache (once; a cache that cannot
-  // be written is noted, as it costs time, not the run).
-  void store(const std::string& identity, const TrainedStage& stage, const std::string& trained_by,
+  // Keeps `stage` for this command and files it in the cache (once; a cache that cannot be
+  // written is noted, as it costs time, not the run).
+  void store(const std::string& identity, TrainedStage stage, const std::string& trained_by,
              ProgressReporter* progress);
 
  private:
@@ -47,7 +47,7 @@ class RunStages : public StageStore {
   RunStages(SharedStages& shared, IdentityOf identity_of, std::string method_name, ProgressReporter* progress)
       : shared_(shared), identity_of_(std::move(identity_of)), method_name_(std::move(method_name)), progress_(progress) {}
   std::optional<TrainedStage> find(const std::string& stage) override;
-  void store(const std::string& stage, const TrainedStage& trained) override;
+  void store(const std::string& stage, TrainedStage trained) override;
   // Shares the stages stored so far (once the base session has ended).
   void file_trained();
   // "<stage> shared with <method>" or "<stage> from the stage cache"; empty when it trained every stage.

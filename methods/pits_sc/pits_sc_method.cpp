@@ -129,7 +129,7 @@ void PitsScMethod::share_pretraining(RunContext& context) {
   put_module(stage.state, "encoder.", *encoder_);
   put_module(stage.state, "classifier.", *classifier_);
   context_bank().save_into(stage.state, "context_bank.");
-  context.stages->store(kPretrainingStage, stage);
+  context.stages->store(kPretrainingStage, std::move(stage));
 }
 
 std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {

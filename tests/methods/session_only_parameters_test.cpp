@@ -107,11 +107,7 @@ INSTANTIATE_TEST_SUITE_P(
               {"amfo_gamma", "0.5"}, {"amfo_r", "0.1"}, {"amfo_session_epochs", "2"}, {"amfo_session_lr", "0.05"},
               {"amfo_session_batch", "64"}, {"amfo_refresh_every", "1"}, {"amfo_new_samples", "3"},
               {"amfo_old_samples", "3"}}}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.method;
-      std::replace(name.begin(), name.end(), '-', '_');
-      return name;
-    });
+    [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
 
 // Every method whose entry says base_ignores_selection ends its base in the same state under every
 // selection (the stage cache shares it).

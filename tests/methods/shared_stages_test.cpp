@@ -27,11 +27,7 @@ class KeptStages : public StageStore {
     if (kept == stages.end()) return std::nullopt;
     return kept->second;
   }
-  void store(const std::string& stage, const TrainedStage& trained) override {
-    TrainedStage copy = trained;
-    for (auto& [name, tensor] : copy.state) tensor = tensor.clone();
-    stages[stage] = copy;
-  }
+  void store(const std::string& stage, TrainedStage trained) override { stages[stage] = std::move(trained); }
   std::map<std::string, TrainedStage> stages;
   int finds = 0;
 };
@@ -188,12 +184,7 @@ INSTANTIATE_TEST_SUITE_P(
                    {"pspc_beta", "2.5"}, {"pspc_q", "own"}, {"pspc_instability", "normalised"},
                    {"pspc_mean", "original"}}),
              {"cpi_space", "cpi_bank", "cpi_pretrain_coverage"}}),
-    [](const ::testing::TestParamInfo<Case>& info) {
-      std::string name = info.param.method;
-      std::replace(name.begin(), name.end(), '-', '_');
-      std::replace(name.begin(), name.end(), '/', '_');
-      return name;
-    });
+    [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
 
 }  // namespace
 }  // namespace fscil

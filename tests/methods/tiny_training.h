@@ -19,6 +19,14 @@ inline std::unique_ptr<Method> tiny_method(const std::string& name, const std::m
   return create_method(name, params);
 }
 
+// A method's name as a parameterised test's name: '-', '/' and '+' become '_'.
+inline std::string test_name_of(std::string method) {
+  for (char& c : method) {
+    if (c == '-' || c == '/' || c == '+') c = '_';
+  }
+  return method;
+}
+
 // Every tensor of `expected` is in `actual`, equal to the bit, and nothing else is.
 inline void expect_same_state(const MethodState& expected, const MethodState& actual, const std::string& what) {
   ASSERT_EQ(actual.size(), expected.size()) << what;
