@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
@@ -15,6 +16,31 @@ class ParameterSet;
 // key=value defaults a profile applies before --set.
 using ParameterDefaults = std::vector<std::pair<std::string, std::string>>;
 
+// The sizes of one run that its time follows (fscil-bench plan's estimate).
+struct RunSizes {
+  std::int64_t base_train = 0;       // the base session's training samples
+  std::int64_t base_validation = 0;  // its validation samples
+  int base_classes = 0, way = 0, shot = 0;
+  int sessions = 0;                  // including the base session
+  std::int64_t sample_values = 0;    // one sample's log-Mel values (channels x Mel bins x frames)
+  std::vector<std::int64_t> scored;  // per session: the samples it scores (every class seen by then)
+  int total_classes() const { return base_classes + way * (sessions - 1); }
+  // Classes seen before incremental session s (1-based): what a session's replay grows with.
+  std::int64_t classes_before(int session) const { return base_classes + static_cast<std::int64_t>(way) * (session - 1); }
+};
+
+// What one stage of a run computes, in the units fscil-bench plan has measured rates for.
+struct StageWork {
+  std::string stage;
+  double trained = 0;     // samples through the encoder forward and backward (training steps)
+  double inferred = 0;    // samples through the encoder forward only
+  double head_steps = 0;  // optimiser steps of a small head on fixed embeddings, no encoder
+  bool base = true;       // part of the base session, which methods with one shared_base_key train once
+};
+
+// A method's stages for one run, from the values it read and the run's sizes.
+using RunWork = std::function<std::vector<StageWork>(const ParameterSet& read, const RunSizes& sizes)>;
+
 // A method as the runner and the tools know it. What they need of it is declared here, by the
 // method, rather than named there.
 struct MethodEntry {
@@ -25,6 +51,10 @@ struct MethodEntry {
   std::vector<std::string> groups = {};
   // The parameters whose sum is its base session's epochs (a cell's cost class).
   std::vector<std::string> base_epoch_keys = {};
+  // Its stages' work (fscil-bench plan's time estimate), besides what the runner does for every
+  // method (scoring, the inference timing). Every built-in method declares it; without it, the
+  // estimate counts base_epoch_keys passes over the base training samples.
+  RunWork work = {};
   // How each profile shortens its schedule (protocols/profiles.h): profile name -> defaults; the
   // paper profile changes nothing.
   std::map<std::string, ParameterDefaults> profile_defaults = {};

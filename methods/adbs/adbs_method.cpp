@@ -143,6 +143,10 @@ MethodEntry adbs_entry() {
                     "add mean prototypes and train only the new classes' margins",
                     [](const ParameterSet& params) { return std::make_unique<AdbsMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes),
+                                  session_work(sizes, AdbsSettings::from(read).session_steps)};
+  };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   entry.session_only_parameters = {"adbs_session_steps", "adbs_session_lr"};

@@ -254,6 +254,14 @@ MethodEntry amfo_entry() {
                     "net; sessions add DSN-style gated supports with both heads, trained on shots and Gaussian draws",
                     [](const ParameterSet& params) { return std::make_unique<AmfoMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    const AmfoSettings amfo = AmfoSettings::from(read);
+    StageWork sessions = session_work(sizes, 0);
+    sessions.head_steps = gaussian_replay_head_steps(sizes, amfo.session_epochs, amfo.session_batch, [&](int session) {
+      return static_cast<double>(amfo.old_samples * sizes.classes_before(session) + (amfo.new_samples + sizes.shot) * sizes.way);
+    });
+    return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes), sessions};
+  };
   // Smoke runs 10 session epochs, not 130: a protocol that only checks the machinery (ours).
   entry.profile_defaults = pretraining_profiles({{"smoke", {{"amfo_session_epochs", "10"}}}});
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session

@@ -177,6 +177,17 @@ MethodEntry arp_entry() {
                     "samples against rows; sessions add the shots' means, nothing trained",
                     [](const ParameterSet& params) { return std::make_unique<ArpMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    const ArpSettings arp = ArpSettings::from(read);
+    // Every batch carries an episode's supports besides its queries; all epochs run (an early stop
+    // can only shorten them), each scored on validation when one may stop.
+    StageWork base = pretraining_work(read, sizes);
+    const double batches = std::ceil(static_cast<double>(sizes.base_train) / arp.base.batch_size);
+    const double supports = std::min<double>(arp.way + arp.tasks, sizes.base_classes) * arp.shot;
+    base.trained += arp.base.epochs * batches * supports;
+    if (arp.base.epochs > arp.early_stop_tol + 1) base.inferred = arp.base.epochs * static_cast<double>(sizes.base_validation);
+    return std::vector<StageWork>{base, base_embedding_work(sizes, 0), session_work(sizes, 0)};
+  };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   return entry;

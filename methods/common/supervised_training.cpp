@@ -81,6 +81,19 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
   return train_epochs(parameters, cross_entropy, data, schedule, context, phase);
 }
 
+StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes) {
+  return {"pretraining", static_cast<double>(SupervisedSchedule::from(read).epochs) * static_cast<double>(sizes.base_train)};
+}
+
+StageWork base_embedding_work(const RunSizes& sizes, int passes) {
+  return {"base embeddings", 0, static_cast<double>(passes * sizes.base_train + sizes.base_validation)};
+}
+
+StageWork session_work(const RunSizes& sizes, double head_steps_per_session) {
+  const double sessions = sizes.sessions - 1;
+  return {"sessions", 0, sessions * sizes.way * sizes.shot, sessions * head_steps_per_session, false};
+}
+
 std::map<std::string, ParameterDefaults> pretraining_profiles(
     const std::map<std::string, ParameterDefaults>& later_stages) {
   std::map<std::string, ParameterDefaults> profiles = {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}},

@@ -24,6 +24,14 @@ struct SupervisedSchedule {
   static SupervisedSchedule from(const ParameterSet& params);
 };
 
+// Work of the stages most methods share (MethodEntry::work): pretrain_epochs passes over the base
+// training samples; embedding the base training samples `passes` times after training (class
+// rows, Gaussians) and the validation samples once; each incremental session embedding its shots
+// and taking `head_steps` optimiser steps on them.
+StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes);
+StageWork base_embedding_work(const RunSizes& sizes, int passes = 1);
+StageWork session_work(const RunSizes& sizes, double head_steps_per_session);
+
 // SGD with Nesterov momentum and the schedule's weight decay, at its initial learning rate.
 torch::optim::SGD make_nesterov_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule);
 // Sets the step-decayed learning rate of `epoch` (0-based).

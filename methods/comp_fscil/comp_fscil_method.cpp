@@ -156,6 +156,11 @@ MethodEntry comp_fscil_entry() {
                     "a primitive-reuse loss in the base; sessions fine-tune only the new rows and maps",
                     [](const ParameterSet& params) { return std::make_unique<CompFscilMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    StageWork validation = base_embedding_work(sizes, 0);  // its rows are trained, not embedded
+    return std::vector<StageWork>{pretraining_work(read, sizes), validation,
+                                  session_work(sizes, CompSettings::from(read).session_steps)};
+  };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   entry.session_only_parameters = {"comp_session_steps", "comp_session_lr"};

@@ -315,6 +315,23 @@ std::vector<MethodEntry> cop_fscil_entries() {
     entry.create = [components](const ParameterSet& params) {
       return std::make_unique<CopFscilMethod>(params, components);
     };
+    entry.work = [components](const ParameterSet& read, const RunSizes& sizes) {
+      const CopFscilSettings cop = CopFscilSettings::from(read);
+      // As pretraining_shareable() decides (a --selection other than last aside).
+      const bool shareable = !components.pcqa && cop.pretrain_coverage == 0 &&
+                             cop.cpi.space == ProbeSpace::standardised && cop.cpi.bank_capacity == kContextBankCapacity;
+      std::vector<StageWork> stages = pits_sc_work(read, sizes, shareable ? PitsScMethod::kPretrainingStage : "pretraining");
+      if (components.pcqa && cop.pic_weight > 0) {  // L_PIC embeds N_cp probed copies of every training batch
+        for (StageWork& stage : stages) {
+          if (stage.trained > 0) stage.inferred += cop.pic_probes * stage.trained;
+        }
+      }
+      if (components.pspc) {  // N_ps probe views of every shot
+        const int probes = cop.pspc_probes > 0 ? cop.pspc_probes : default_pspc_probes(sizes.sample_values);
+        stages.back().inferred *= 1 + probes;
+      }
+      return stages;
+    };
     entry.session_only_parameters.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
     // Its own values never shape PITS-SC's pretraining; where one would (CPI in pretraining, the
     // bank, PCQA), pretraining_shareable() says so and the run trains its own.

@@ -202,6 +202,17 @@ MethodEntry dsn_entry() {
                     "the shots and on features drawn from every seen class's Gaussian, with distillation",
                     [](const ParameterSet& params) { return std::make_unique<DsnMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    const DsnSettings dsn = DsnSettings::from(read);
+    StageWork sessions = session_work(sizes, 0);
+    sessions.head_steps = gaussian_replay_head_steps(sizes, dsn.session_epochs, dsn.session_batch, [&](int session) {
+      const double earlier_novel = sizes.classes_before(session) - sizes.base_classes;
+      return dsn.base_samples * sizes.base_classes + dsn.old_samples * earlier_novel +
+             (dsn.new_samples + sizes.shot) * sizes.way;
+    });
+    // Gaussians of the base classes, then validation.
+    return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes), sessions};
+  };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   entry.session_only_parameters = {"dsn_gamma",       "dsn_session_epochs", "dsn_session_lr",

@@ -1,5 +1,7 @@
 #include "methods/dsn/gaussian_replay.h"
 
+#include <cmath>
+
 #include <vector>
 
 namespace fscil {
@@ -54,6 +56,15 @@ void GaussianReplay::finish() {
     kept_covariances_ = working_covariances_;
   }
   if (kept_means_.defined()) gaussians_.blend(first_, kept_means_, kept_covariances_);
+}
+
+double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch,
+                                  const std::function<double(int session)>& samples) {
+  double steps = 0;
+  for (int session = 1; session < sizes.sessions; ++session) {
+    steps += epochs * std::ceil(samples(session) / batch);
+  }
+  return steps;
 }
 
 }  // namespace fscil

@@ -340,6 +340,22 @@ MethodEntry orco_entry() {
                     "orthogonality and CE; replays 5 exemplars per base class and every earlier shot",
                     [](const ParameterSet& params) { return std::make_unique<OrcoMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs", "orco_base_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    const OrcoSettings orco = OrcoSettings::from(read);
+    const double n = static_cast<double>(sizes.base_train), shots = static_cast<double>(sizes.way) * sizes.shot;
+    StageWork pretraining = pretraining_work(read, sizes);
+    pretraining.trained *= 2;  // two masked views of every sample
+    // Assignment, the cached views and validation; then the projector alone on the cached views.
+    StageWork projector{"projector", 0, n + orco.views * n + static_cast<double>(sizes.base_validation),
+                        orco.base.epochs * std::ceil(n / orco.base.batch_size)};
+    StageWork sessions{"sessions", 0, 0, 0, false};
+    for (int session = 1; session < sizes.sessions; ++session) {
+      const double memory = orco.exemplars_per_base_class * sizes.base_classes + session * shots;
+      sessions.inferred += 2 * shots + static_cast<double>(sizes.base_validation) + orco.views * memory;
+      sessions.head_steps += orco.session.epochs * std::ceil(2 * memory / orco.session.batch_size);
+    }
+    return std::vector<StageWork>{pretraining, projector, sessions};
+  };
   // The projector stage shortened as PITS-SC's second stage is (10 epochs: 2 in fast, 1 in smoke),
   // and in smoke its sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up).
   entry.profile_defaults = pretraining_profiles(

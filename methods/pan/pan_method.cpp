@@ -219,6 +219,15 @@ MethodEntry pan_entry() {
                     [](const ParameterSet& params) { return std::make_unique<PanMethod>(params); }};
   // Stages (a) and (c) both run the shared pretraining schedule, (b) its own epochs.
   entry.base_epoch_keys = {"pretrain_epochs", "pretrain_epochs", "pan_pit_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    const PanSettings pan = PanSettings::from(read);
+    // (a) trains on the temporary base classes' share of the samples, (c) on all of them.
+    const double temporary = static_cast<double>(temporary_base_classes(sizes.base_classes, pan.temporary_base));
+    StageWork standard = pretraining_work(read, sizes);
+    standard.trained *= 1 + temporary / sizes.base_classes;
+    const StageWork episodes{"pseudo-incremental", pan.pit_epochs * pan.pit_episodes * 2.0 * pan.way * (pan.shot + pan.query)};
+    return std::vector<StageWork>{standard, episodes, base_embedding_work(sizes), session_work(sizes, pan.session_steps)};
+  };
   entry.profile_defaults = pretraining_profiles({{"smoke", {{"pan_pit_episodes", "4"}}}});
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   entry.session_only_parameters = {"pan_session_steps", "pan_session_lr"};

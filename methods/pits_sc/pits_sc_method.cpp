@@ -261,12 +261,28 @@ ModelCost PitsScMethod::inference_cost(const InputShape& input) const {
   return cost;
 }
 
+std::vector<StageWork> pits_sc_work(const ParameterSet& read, const RunSizes& sizes, const std::string& pretraining_stage) {
+  const PitsScSettings settings = PitsScSettings::from(read);
+  StageWork pretraining = pretraining_work(read, sizes);
+  pretraining.stage = pretraining_stage;
+  const PitEpisodeShape episode = pit_episode_shape(settings, sizes.base_classes, sizes.total_classes() - sizes.base_classes);
+  const double episode_samples = (episode.kept + episode.pairs) * episode.per_class();
+  const StageWork pseudo_incremental{"pseudo-incremental", settings.pit.epochs * settings.pit_episodes * episode_samples};
+  // Rows and validation after each of the two stages.
+  StageWork embeddings = base_embedding_work(sizes);
+  embeddings.inferred *= 2;
+  return {pretraining, pseudo_incremental, embeddings, session_work(sizes, settings.epochs_new)};
+}
+
 MethodEntry pits_sc_entry() {
   MethodEntry entry{"pits-sc", "PITS-SC: CutMix pretraining, pseudo-incremental training on raw-signal mixtures, "
                     "stochastic classifier fine-tuned per session",
                     [](const ParameterSet& params) { return std::make_unique<PitsScMethod>(params); }};
   entry.groups = {"ablation"};
   entry.base_epoch_keys = {"pretrain_epochs", "pit_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    return pits_sc_work(read, sizes, PitsScMethod::kPretrainingStage);
+  };
   // Its pseudo-incremental stage and its sessions shortened as the pretraining is.
   entry.profile_defaults = pretraining_profiles(
       {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});

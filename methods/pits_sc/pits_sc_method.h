@@ -5,6 +5,7 @@
 #include "methods/common/resnet18.h"
 #include "methods/common/stochastic_classifier.h"
 #include "methods/method.h"
+#include "methods/method_registry.h"
 #include "methods/pits_sc/pits_sc_settings.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 
@@ -100,5 +101,8 @@ class PitsScMethod : public Method {
 
 // The pits-sc entry; the cop-fscil variants build theirs on its stages, profiles and hints.
 MethodEntry pits_sc_entry();
+// PITS-SC's stages (MethodEntry::work), its pretraining named `pretraining_stage`: the shared
+// stage's name where the run can share it.
+std::vector<StageWork> pits_sc_work(const ParameterSet& read, const RunSizes& sizes, const std::string& pretraining_stage);
 
 }  // namespace fscil

@@ -58,6 +58,9 @@ MethodEntry prototype_entry() {
   MethodEntry entry{"prototype", "cosine classifier trained on base classes, frozen encoder, class-mean prototypes",
                     [](const ParameterSet& params) { return std::make_unique<PrototypeMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
+  entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
+    return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes), session_work(sizes, 0)};
+  };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // sessions only add prototypes
   return entry;

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,7 @@ TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
   EXPECT_NE(ablation.output.find("    2  cop-fscil/cpi,cop-fscil/cpi+pspc "), std::string::npos) << ablation.output;
   EXPECT_NE(ablation.output.find("    5  cop-fscil/cpi+pcqa,cop-fscil "), std::string::npos) << ablation.output;
   EXPECT_NE(ablation.output.find("small (4 base epochs)"), std::string::npos) << ablation.output;
-  const CommandResult sweep = run_cli("plan --grid shot=1,5 --methods pits-sc,orco --dataset simtex --seeds 3");
+  const CommandResult sweep = run_cli("plan --grid shot=1,5 --methods pits-sc,orco --dataset simtex --seeds 3 --no-estimate");
   ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
   EXPECT_NE(sweep.output.find("4 cells"), std::string::npos) << sweep.output;
   EXPECT_NE(sweep.output.find("    3  orco"), std::string::npos) << sweep.output;
@@ -42,6 +43,36 @@ TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --seeds 1-2 --cell 2"),
                         "--cell 2: this command has 2 cells, 0 to 1 (see: fscil-bench plan)");
   expect_one_error_line(run_cli("plan --dataset simtex-mini"), "--methods and --dataset are required");
+  EXPECT_EQ(sweep.output.find("estimate"), std::string::npos) << sweep.output;
+}
+
+// The seconds plan estimates for each line's cell (its last column, H:MM:SS).
+std::vector<double> estimates_in(const std::string& plan) {
+  std::vector<double> seconds;
+  std::istringstream lines(plan);
+  for (std::string line; std::getline(lines, line);) {
+    int hours = 0, minutes = 0, rest = 0;
+    const auto last = line.rfind(' ');
+    if (line.find("base epochs)") != std::string::npos &&
+        std::sscanf(line.c_str() + last + 1, "%d:%d:%d", &hours, &minutes, &rest) == 3) {
+      seconds.push_back(hours * 3600.0 + minutes * 60.0 + rest);
+    }
+  }
+  return seconds;
+}
+
+TEST(Cli, PlanEstimatesEachCellWithSharedWorkCountedOnce) {
+  const CommandResult plan = run_cli("plan --methods ablation --dataset simtex-mini --profile smoke --seeds 1-2 --threads 1");
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("  estimate\n"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("for all cells one after another on this machine"), std::string::npos) << plan.output;
+  // Cells: pits-sc, then cpi with cpi+pspc, then cpi+pcqa with cop-fscil; seeds 1 and 2 each.
+  const std::vector<double> seconds = estimates_in(plan.output);
+  ASSERT_EQ(seconds.size(), 6u) << plan.output;
+  for (double cell : seconds) EXPECT_GT(cell, 0) << plan.output;
+  // cpi continues from pits-sc's pretraining of its seed; cpi+pcqa trains its own, and L_PIC's probes.
+  EXPECT_LT(seconds[2], seconds[0]) << plan.output;
+  EXPECT_GT(seconds[4], seconds[0]) << plan.output;
 }
 
 TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWithoutResults) {
@@ -66,6 +97,18 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   EXPECT_NE(merge.find(" plan --methods prototype,cop-fscil "), std::string::npos) << merge;
   EXPECT_NE(merge.find(" --missing-only\n"), std::string::npos) << merge;
   EXPECT_EQ(std::system(("bash -n " + (folder.path() / "runs" / "slurm" / "array.sbatch").string()).c_str()), 0);
+  EXPECT_EQ(array.find("suggestion"), std::string::npos) << "a --time given is used as given";
+
+  // Without --time: the plan's suggestion, said so in the script; never less than 10 minutes.
+  TemporaryDirectory untimed;
+  const CommandResult suggested = run_cli("slurm --methods prototype --dataset simtex-mini --profile smoke --out " +
+                                          (untimed.path() / "runs").string());
+  ASSERT_EQ(suggested.exit_code, 0) << suggested.output;
+  EXPECT_NE(suggested.output.find("--time 0:10:00 suggested from the plan"), std::string::npos) << suggested.output;
+  const std::string suggested_array = read_text(untimed.path() / "runs" / "slurm" / "array.sbatch");
+  EXPECT_NE(suggested_array.find("#SBATCH --time=0:10:00\n"), std::string::npos) << suggested_array;
+  EXPECT_NE(suggested_array.find("# --time was not given"), std::string::npos) << suggested_array;
+  EXPECT_EQ(read_text(untimed.path() / "runs" / "slurm" / "merge.sbatch").find("--time"), std::string::npos);
 
   // Cells 0 (prototype, seed 1) and 3 (cop-fscil, seed 2) have their result files.
   std::filesystem::create_directories(folder.path() / "runs" / "results");

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <tuple>
 
@@ -49,15 +50,10 @@ std::int64_t base_epochs(const std::string& method, const ParameterSet& read) {
 }
 
 std::vector<MethodGroup> method_groups(const RunOptions& options) {
-  ParameterSet params;
-  apply_dataset_defaults(options.dataset, params);
-  apply_profile(options.profile, params);
-  apply_assignments(options.assignments, params);
   std::vector<MethodGroup> groups;
   std::vector<std::string> keys;
   for (const auto& name : resolve_method_names(options.methods)) {
-    ParameterSet read = params;
-    create_method(name, read);  // marks the parameters it reads
+    const ParameterSet read = method_parameters(options, name);
     const std::string& key = method_entry(name).shared_base_key;
     const auto same = key.empty() ? keys.end() : std::find(keys.begin(), keys.end(), key);
     if (same == keys.end()) {
@@ -72,6 +68,15 @@ std::vector<MethodGroup> method_groups(const RunOptions& options) {
 }
 
 }  // namespace
+
+ParameterSet method_parameters(const RunOptions& options, const std::string& method) {
+  ParameterSet params;
+  apply_dataset_defaults(options.dataset, params);
+  apply_profile(options.profile, params);
+  apply_assignments(options.assignments, params);
+  create_method(method, params);  // marks the parameters it reads
+  return params;
+}
 
 std::string BenchCell::cost_class() const {
   if (epochs <= 12) return "small";
@@ -117,15 +122,33 @@ bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
 }
 
 std::string render_plan(const std::vector<BenchCell>& cells) {
+  const bool estimated = std::any_of(cells.begin(), cells.end(), [](const BenchCell& cell) { return cell.estimated_seconds >= 0; });
+  const auto last_columns = [&](const std::string& cost, const std::string& estimate) {
+    return estimated ? fmt::format("{:<30}  {:>8}", cost, estimate) : cost;
+  };
   std::string text = fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {}\n", "cell", "methods", "dataset", "grid",
-                                 "seed", "cost");
+                                 "seed", last_columns("cost", "estimate"));
+  double total = 0;
   for (const auto& cell : cells) {
-    text += fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {} ({} base epochs)\n", cell.index,
+    text += fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {}", cell.index,
                         fmt::format("{}", fmt::join(cell.methods, ",")), cell.dataset,
-                        cell.grid.empty() ? "-" : grid_cell_name(cell.grid), cell.seed, cell.cost_class(), cell.epochs);
+                        cell.grid.empty() ? "-" : grid_cell_name(cell.grid), cell.seed,
+                        last_columns(fmt::format("{} ({} base epochs)", cell.cost_class(), cell.epochs),
+                                     clock_time(cell.estimated_seconds)));
+    text += "\n";
+    total += std::max(cell.estimated_seconds, 0.0);
   }
-  return text + fmt::format("{} cells; run one with --cell K, all with run-cells --jobs J or fscil-bench slurm\n",
-                            cells.size());
+  text += fmt::format("{} cells; run one with --cell K, all with run-cells --jobs J or fscil-bench slurm\n", cells.size());
+  if (estimated) {
+    text += fmt::format("estimated {} for all cells one after another on this machine (training and scoring at "
+                        "rates measured here; not the dataset's preparation)\n", clock_time(total));
+  }
+  return text;
+}
+
+std::string clock_time(double seconds) {
+  const auto whole = static_cast<long long>(std::ceil(std::max(seconds, 0.0)));
+  return fmt::format("{}:{:02}:{:02}", whole / 3600, whole / 60 % 60, whole % 60);
 }
 
 std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index) {

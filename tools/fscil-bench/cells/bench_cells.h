@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parameter_set.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/commands/run_command.h"
 
@@ -23,7 +24,12 @@ struct BenchCell {
   // which dominate its cost: a rough size, not a time.
   std::int64_t epochs = 0;
   std::string cost_class() const;  // small (up to 12) | medium (up to 60) | large
+  double estimated_seconds = -1;   // on this machine (cells/time_estimate.h); -1: not estimated
 };
+
+// The parameters `method` reads in the command `options` describes (dataset defaults, profile,
+// --set), marked as read.
+ParameterSet method_parameters(const RunOptions& options, const std::string& method);
 
 // The cells of the command `options` describes (`grid`: the --grid texts of a sweep, empty for a
 // run), in a fixed order: grid cell (as the sweep runs them), then method group (as --methods
@@ -38,8 +44,11 @@ RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell);
 // Whether every run of the cell has its result file.
 bool cell_has_results(const RunOptions& options, const BenchCell& cell);
 
-// `fscil-bench plan`: one line per cell (index, methods, dataset, grid cell, seed, cost class).
+// `fscil-bench plan`: one line per cell (index, methods, dataset, grid cell, seed, cost class,
+// and the estimated time where cells have one), then the count and the estimated total.
 std::string render_plan(const std::vector<BenchCell>& cells);
+// Seconds as H:MM:SS, rounded up (as Slurm's --time takes it).
+std::string clock_time(double seconds);
 
 // `--cell K`: runs cell K of the command and writes its result files (no tables); CliError when
 // the command has no cell K.

@@ -19,6 +19,7 @@
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/cells/cell_runner.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
+#include "tools/fscil-bench/cells/time_estimate.h"
 #include "tools/fscil-bench/commands/logmel_command.h"
 #include "tools/fscil-bench/commands/reference_command.h"
 #include "tools/fscil-bench/commands/report_writer.h"
@@ -105,9 +106,13 @@ class PlanCommand : public CellsCommand {
   void declare_own(CLI::App& command) override {
     command.add_flag("--missing-only", missing_only_,
                      "only the cells without their result files; exit 1 when there are any (the Slurm merge job's check)");
+    command.add_flag("--no-estimate", no_estimate_,
+                     "list the cells without estimating their time (which prepares the dataset and, once per machine "
+                     "and input shape, times the training step)");
   }
   int run(Invocation& invocation) override {
     auto cells = plan_cells(invocation.run, grid_);
+    if (!missing_only_ && !no_estimate_) estimate_cells(invocation.run, grid_, cells);
     int status = exit_status::success;
     if (missing_only_) {
       cells.erase(std::remove_if(cells.begin(), cells.end(),
@@ -119,6 +124,7 @@ class PlanCommand : public CellsCommand {
     return status;
   }
   bool missing_only_ = false;
+  bool no_estimate_ = false;
 };
 
 class RunCellsCommand : public CellsCommand {
@@ -330,7 +336,8 @@ const std::vector<SubcommandEntry>& subcommand_table() {
       {"sweep", "Run the command once per cell of the grid (every combination of the --grid values) into OUT/cells/, "
        "then tables over all cells with a column per key; takes every run option", &make<SweepCommand>},
       {"plan", "List the cells of a run or sweep command, one line each (index, methods, dataset, grid cell, seed, "
-       "cost class): the units --cell K, run-cells and slurm run; methods sharing a base session share a cell",
+       "cost class, estimated time on this machine) and the total: the units --cell K, run-cells and slurm run; "
+       "methods sharing a base session share a cell",
        &make<PlanCommand>},
       {"run-cells", "Run every cell of a run or sweep command as its own process, --jobs at a time with the threads "
        "split between them (logs in OUT/cell-logs/), then the command's tables", &make<RunCellsCommand>},

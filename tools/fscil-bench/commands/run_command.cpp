@@ -15,6 +15,7 @@
 #include "datasets/dataset_catalog.h"
 #include "datasets/hdf5_file.h"
 #include "datasets/segment_cache.h"
+#include "methods/common/supervised_training.h"
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
@@ -351,7 +352,7 @@ struct CommandRuns {
 };
 
 CommandRuns start_runs(const RunOptions& options, const CommandPlan& plan) {
-  CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}, {}};
+  CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}, SharedStages()};
   // The executable is read only when the stage cache is in use.
   if (!options.no_cache && !options.no_stage_cache) runs.code = code_digest(runs.machine);
   if (runs.stage_caching()) runs.shared_stages = SharedStages(runs.stage_cache);
@@ -641,6 +642,34 @@ void refuse_out_folder_of_others(const RunOptions& options) {
     throw ProtocolError(fmt::format("--out {}: a sweep's folder (it has cells/); a run there would replace the sweep's "
                                     "tables: write to another --out", options.out));
   }
+}
+
+CommandSizes command_sizes(const RunOptions& options) {
+  ProgressReporter quiet = ProgressReporter::quiet();
+  const CommandPlan plan = plan_command(options, quiet);
+  CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads,
+                     plan.params.integer("batch_size", SupervisedSchedule{}.batch_size, ValidRange::at_least(2)), {},
+                     options.no_cache ? std::string() : cache_folder(options).string()};
+  for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
+    const SessionSchedule& schedule = plan.schedules[i];
+    RunSizes run;
+    run.base_train = static_cast<std::int64_t>(schedule.train.front().size());
+    run.base_validation = static_cast<std::int64_t>(schedule.validation.size());
+    run.base_classes = schedule.plan.base_classes;
+    run.way = schedule.plan.way;
+    run.shot = schedule.plan.shot;
+    run.sessions = schedule.plan.sessions;
+    run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
+    const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
+    for (int session = 0; session < run.sessions; ++session) {
+      const int seen = schedule.plan.seen_after(session);
+      run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
+        return schedule.label[static_cast<std::size_t>(segment)] < seen;
+      }));
+    }
+    sizes.runs[plan.seeds[i]] = run;
+  }
+  return sizes;
 }
 
 std::string run_benchmark(const RunOptions& options) {

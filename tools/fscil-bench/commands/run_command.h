@@ -1,7 +1,10 @@
 #pragma once
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
+
+#include "methods/method_registry.h"
 
 namespace fscil {
 
@@ -47,6 +50,18 @@ struct RunOptions {
 // (for a cell: where its result files are). Throws StopRequested after SIGTERM, its finished
 // sessions kept in checkpoints.
 std::string run_benchmark(const RunOptions& options);
+
+// What `fscil-bench plan` estimates a command's time from, prepared as the command prepares it
+// (the dataset from the cache, or built and cached; the same schedules): the input shape, the
+// threads, the pretraining batch and each seed's run sizes.
+struct CommandSizes {
+  std::int64_t channels = 0, mel_bins = 0, frames = 0;
+  int threads = 0;
+  std::int64_t batch = 0;
+  std::map<std::uint64_t, RunSizes> runs;  // by seed
+  std::string cache_dir;                   // where this command caches (empty: --no-cache)
+};
+CommandSizes command_sizes(const RunOptions& options);
 
 // Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.
 int configure_threads(int requested);

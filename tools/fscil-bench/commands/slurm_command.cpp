@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
@@ -12,6 +14,7 @@
 #include "core/error.h"
 #include "core/shown_text.h"
 #include "tools/fscil-bench/cells/command_arguments.h"
+#include "tools/fscil-bench/cells/time_estimate.h"
 
 namespace fscil {
 
@@ -69,7 +72,7 @@ std::string common_lines(const SlurmOptions& slurm) {
 }
 
 std::string array_script(const std::string& command, const std::string& range, int cpus, const fs::path& logs,
-                         const fs::path& workdir, const SlurmOptions& slurm) {
+                         const fs::path& workdir, const SlurmOptions& slurm, const std::string& time_note) {
   return fmt::format(
       "#!/bin/bash\n"
       "# One task per cell of the command (fscil-bench plan lists them). Written by fscil-bench slurm.\n"
@@ -80,6 +83,7 @@ std::string array_script(const std::string& command, const std::string& range, i
       "#SBATCH --open-mode=append\n"
       "#SBATCH --signal=B:TERM@120\n"
       "#SBATCH --requeue\n"
+      "{time_note}"
       "{common}"
       "cd {workdir} || exit 1\n"
       "# SIGTERM (a time limit near, or a preemption) goes to fscil-bench, which keeps the checkpoint of\n"
@@ -91,8 +95,20 @@ std::string array_script(const std::string& command, const std::string& range, i
       "while kill -0 \"$child\" 2>/dev/null; do wait \"$child\"; done  # a trap ends a wait early\n"
       "wait \"$child\"  # its exit status, which bash keeps\n",
       fmt::arg("range", range), fmt::arg("cpus", cpus), fmt::arg("logs", logs.string()),
-      fmt::arg("common", common_lines(slurm)), fmt::arg("workdir", shell_command({workdir.string()})),
-      fmt::arg("command", command));
+      fmt::arg("time_note", time_note), fmt::arg("common", common_lines(slurm)),
+      fmt::arg("workdir", shell_command({workdir.string()})), fmt::arg("command", command));
+}
+
+// Without --time: 1.5 times the longest chosen cell's estimate on this machine (each task training
+// its own shared stages), at least 10 minutes, rounded up to whole minutes.
+std::string suggested_time(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell> cells,
+                           const std::vector<int>& chosen, int cpus) {
+  RunOptions on_a_task = options;
+  on_a_task.threads = cpus;
+  estimate_cells(on_a_task, grid, cells, /*one_after_another=*/false);
+  double longest = 0;
+  for (int index : chosen) longest = std::max(longest, cells[static_cast<std::size_t>(index)].estimated_seconds);
+  return clock_time(std::max(600.0, std::ceil(1.5 * longest / 60) * 60));
 }
 
 std::string merge_script(const std::string& command, const std::string& check, const fs::path& logs,
@@ -158,6 +174,13 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
     if (!slurm.missing_only || !cell_has_results(options, cell)) chosen.push_back(cell.index);
   }
   const int cpus = slurm.cpus_per_task > 0 ? slurm.cpus_per_task : options.threads > 0 ? options.threads : 1;
+  SlurmOptions limits = slurm;
+  std::string time_note;
+  if (limits.time.empty() && !chosen.empty()) {
+    limits.time = suggested_time(options, grid, cells, chosen, cpus);
+    time_note = "# --time was not given: the limit below is fscil-bench's suggestion, 1.5 x the longest cell's\n"
+                "# estimate on the machine that wrote this script (fscil-bench plan), at least 10 minutes.\n";
+  }
   const fs::path workdir = fs::current_path();
   const fs::path folder = fs::absolute(options.out) / "slurm";
   fs::create_directories(folder);
@@ -174,14 +197,16 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
                        shell_command(merge));
   }
   write_file_atomically(array_file, array_script(shell_command(task), array_range(chosen, slurm.max_parallel), cpus,
-                                                 logs, workdir, slurm));
+                                                 logs, workdir, limits, time_note));
   std::vector<std::string> check = {executable, "plan"};
   for (const auto& word : command_arguments(options, grid)) check.push_back(word);
   if (!grid.empty()) check.erase(check.begin() + 2);  // "plan sweep --grid ...": plan takes --grid itself
   check.emplace_back("--missing-only");
   write_file_atomically(merge_file, merge_script(shell_command(merge), shell_command(check), logs, workdir, slurm));
-  std::string text = fmt::format("{} of {} cells in {} ({} cpus per task); tables after them: {}\n", chosen.size(),
-                                 cells.size(), array_file.string(), cpus, merge_file.string());
+  std::string text = fmt::format("{} of {} cells in {} ({} cpus per task{}); tables after them: {}\n", chosen.size(),
+                                 cells.size(), array_file.string(), cpus,
+                                 time_note.empty() ? "" : fmt::format(", --time {} suggested from the plan", limits.time),
+                                 merge_file.string());
   if (!slurm.submit) {
     return text + fmt::format("Submit with: jid=$(sbatch --parsable {}) && sbatch --dependency=afterany:$jid {}\n",
                               shell_command({array_file.string()}), shell_command({merge_file.string()}));

@@ -1,0 +1,25 @@
+#pragma once
+#include <cstdint>
+
+#include "methods/method.h"
+
+namespace fscil {
+
+// How fast this machine runs the shared encoder on one input shape, per sample: a training step
+// (forward, backward and a Nesterov SGD step through ResNet-18 and a cosine classifier, as the
+// methods' base sessions train) and an inference pass (eval mode, no gradients). What
+// `fscil-bench plan` multiplies by the samples each stage sees.
+struct StepRate {
+  double train_seconds_per_sample = 0;
+  double infer_seconds_per_sample = 0;
+  // One optimiser step of a small head on fixed embeddings (a D x D layer and a cosine classifier
+  // over 100 classes, a batch of 256): what sessions that train no encoder take many of.
+  double head_step_seconds = 0;
+};
+
+// Times whole batches of `batch` random inputs of `shape` (one untimed warm-up step each, then
+// steps until `seconds` have passed, at least two), and the head step, on the threads torch is set
+// to use.
+StepRate measure_step_rate(const InputShape& shape, std::int64_t batch, double seconds = 1.0);
+
+}  // namespace fscil

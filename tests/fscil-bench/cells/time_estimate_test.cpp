@@ -1,0 +1,145 @@
+// fscil-bench plan's time estimate: stages at measured rates, the runner's part, shared work
+// counted once, each method's stages against hand counts, and the per-machine rate cache.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "core/parameter_set.h"
+#include "methods/method_registry.h"
+#include "methods/pits_sc/pits_sc_method.h"
+#include "tests/temporary_directory.h"
+#include "tools/fscil-bench/cells/time_estimate.h"
+
+namespace fscil {
+namespace {
+
+RunSizes three_sessions() {
+  RunSizes sizes;
+  sizes.base_train = 200;
+  sizes.base_validation = 50;
+  sizes.base_classes = 10;
+  sizes.way = 5;
+  sizes.shot = 5;
+  sizes.sessions = 3;
+  sizes.sample_values = 5 * 64 * 24;
+  sizes.scored = {40, 60, 200};
+  return sizes;
+}
+
+TEST(RunSeconds, AddsEveryStageAtTheMeasuredRatesAndTheRunnersScoring) {
+  MethodEntry entry{"example", "", nullptr};
+  entry.work = [](const ParameterSet&, const RunSizes&) {
+    return std::vector<StageWork>{{"pretraining", 100, 10, 0}, {"sessions", 0, 5, 20, false}};
+  };
+  entry.sessions_keep_embedding = true;
+  const MachineRates rates{0.5, 0.1, 0.01};
+  std::set<std::string> stages;
+  // 100 x 0.5 + (10 + 5 + 200 scored once + 8 x 128 timed) x 0.1 + 20 x 0.01
+  EXPECT_NEAR(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 174.1, 1e-9);
+  // Its base trained by another method of the cell: the sessions and the scoring only.
+  EXPECT_NEAR(run_seconds(entry, ParameterSet(), three_sessions(), rates, true, stages), 123.1, 1e-9);
+  // Scored samples embedded again in every session: 40 + 60 + 200 instead of 200.
+  entry.sessions_keep_embedding = false;
+  EXPECT_NEAR(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 184.1, 1e-9);
+  EXPECT_TRUE(stages.empty()) << "no stage of this entry is shared";
+}
+
+TEST(RunSeconds, ASharedStageIsCountedByTheFirstRunThatTrainsIt) {
+  MethodEntry entry{"example", "", nullptr};
+  entry.work = [](const ParameterSet&, const RunSizes&) {
+    return std::vector<StageWork>{{"shared pretraining", 100, 0, 0}, {"own stage", 10, 0, 0}};
+  };
+  entry.shared_stages["shared pretraining"] = {};
+  entry.sessions_keep_embedding = true;
+  const MachineRates rates{1, 0, 0};
+  std::set<std::string> stages;
+  EXPECT_DOUBLE_EQ(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 110);
+  EXPECT_EQ(stages, std::set<std::string>{"shared pretraining"});
+  EXPECT_DOUBLE_EQ(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 10);
+}
+
+// The smoke profile's values as the methods read them on simtex-mini.
+ParameterSet smoke(const std::string& method) {
+  RunOptions options;
+  options.methods = method;
+  options.dataset = "simtex-mini";
+  options.profile = "smoke";
+  return method_parameters(options, method);
+}
+
+struct Totals {
+  double trained = 0, inferred = 0, head_steps = 0;
+};
+Totals totals(const std::string& method) {
+  Totals sum;
+  for (const StageWork& stage : method_entry(method).work(smoke(method), three_sessions())) {
+    sum.trained += stage.trained;
+    sum.inferred += stage.inferred;
+    sum.head_steps += stage.head_steps;
+  }
+  return sum;
+}
+
+TEST(MethodWork, PitsScAndItsCopVariantsCountTheirStagesAsTheyTrainThem) {
+  // 3 pretraining epochs of 200; 1 x 4 episodes of 6 kept and 2 mixed classes x (5 + 15); rows
+  // and validation after both stages; 2 sessions of 25 shots, 20 classifier steps each.
+  const Totals pits = totals("pits-sc");
+  EXPECT_DOUBLE_EQ(pits.trained, 600 + 640);
+  EXPECT_DOUBLE_EQ(pits.inferred, 2 * 250 + 50);
+  EXPECT_DOUBLE_EQ(pits.head_steps, 40);
+  const auto stages = method_entry("cop-fscil/cpi").work(smoke("cop-fscil/cpi"), three_sessions());
+  EXPECT_EQ(stages.front().stage, PitsScMethod::kPretrainingStage) << "cpi can continue from pits-sc's";
+  // PCQA's L_PIC embeds 2 probed copies of every trained sample; PSPC 10 probe views of every shot.
+  const Totals cop = totals("cop-fscil");
+  EXPECT_EQ(method_entry("cop-fscil").work(smoke("cop-fscil"), three_sessions()).front().stage, "pretraining");
+  EXPECT_DOUBLE_EQ(cop.trained, 600 + 640);
+  EXPECT_DOUBLE_EQ(cop.inferred, 2 * (600 + 640) + 2 * 250 + 50 * 11);
+}
+
+TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
+  const Totals prototype = totals("prototype");
+  EXPECT_DOUBLE_EQ(prototype.trained, 600);
+  EXPECT_DOUBLE_EQ(prototype.inferred, 250 + 50);
+  // Two masked views; assignment, 4 cached views and validation; 1 projector epoch of 2 batches;
+  // sessions: 2 x 25 shots and validation, and the 4 views of a memory of 50 + 25 s samples.
+  const Totals orco = totals("orco");
+  EXPECT_DOUBLE_EQ(orco.trained, 1200);
+  EXPECT_DOUBLE_EQ(orco.inferred, 200 + 800 + 50 + (50 + 50 + 4 * 75) + (50 + 50 + 4 * 100));
+  EXPECT_DOUBLE_EQ(orco.head_steps, 2 + 10 * 3 + 10 * 4);
+  // ARP: every batch of 128 carries 8 x 5 supports: 2 batches per epoch.
+  EXPECT_DOUBLE_EQ(totals("arp").trained, 3 * (200 + 2 * 40));
+  // PAN: (a) on 6 of the 10 classes' share, (c) on all; 4 episodes of 2 x 5 x 20.
+  EXPECT_DOUBLE_EQ(totals("pan").trained, 3 * 200 * 1.6 + 4 * 200);
+  // AMFO: 10 epochs a session, each one batch: 10 draws of the 10 classes before it, 5 of each
+  // new class and the 25 shots (150); then 10 x 15 + 50 (200).
+  EXPECT_DOUBLE_EQ(totals("amfo").head_steps, 10 + 10);
+  for (const auto& entry : method_registry()) EXPECT_TRUE(entry.work) << entry.name << " declares no work";
+}
+
+TEST(MachineRates, AreMeasuredOnceAndThenReadFromTheCacheFolder) {
+  TemporaryDirectory cache;
+  CommandSizes sizes;
+  sizes.channels = 5;
+  sizes.mel_bins = 64;
+  sizes.frames = 24;
+  sizes.threads = 1;
+  sizes.batch = 16;
+  sizes.cache_dir = cache.path().string();
+  const MachineRates measured = machine_rates(sizes);
+  EXPECT_GT(measured.train_seconds_per_sample, measured.infer_seconds_per_sample);
+  EXPECT_GT(measured.infer_seconds_per_sample, 0);
+  EXPECT_GT(measured.head_step_seconds, 0);
+  ASSERT_TRUE(std::filesystem::exists(cache.path() / "step_rates.json"));
+  const MachineRates again = machine_rates(sizes);  // a second timing would differ in its last digits
+  EXPECT_EQ(again.train_seconds_per_sample, measured.train_seconds_per_sample);
+  EXPECT_EQ(again.head_step_seconds, measured.head_step_seconds);
+
+  std::ofstream(cache.path() / "step_rates.json") << "{\"cut";  // a broken cache is measured over
+  EXPECT_GT(machine_rates(sizes).train_seconds_per_sample, 0);
+  EXPECT_EQ(machine_rates(sizes).train_seconds_per_sample, machine_rates(sizes).train_seconds_per_sample);
+}
+
+}  // namespace
+}  // namespace fscil
