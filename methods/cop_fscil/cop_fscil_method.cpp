@@ -181,10 +181,19 @@ void CopFscilMethod::after_pseudo_incremental(const SessionData& base, RunContex
                                    [&](const torch::Tensor& batch) { encoder_->forward(batch); });
 }
 
+namespace {
+
+// Whether its pretraining is PITS-SC's to the bit, bank included: CPI acts in episodes only, on
+// the standardised maps, with the bank pits-sc records, and no adapter trains with the encoder.
+bool pretrains_as_pits_sc(const CopFscilSettings& settings, const CopFscilComponents& components) {
+  return !components.pcqa && settings.pretrain_coverage == 0 && settings.cpi.space == ProbeSpace::standardised &&
+         settings.cpi.bank_capacity == kContextBankCapacity;
+}
+
+}  // namespace
+
 bool CopFscilMethod::pretraining_shareable(const RunContext& context) const {
-  const ContextProbeSettings& cpi = cop_settings_.cpi;
-  return PitsScMethod::pretraining_shareable(context) && !components_.pcqa && cop_settings_.pretrain_coverage == 0 &&
-         cpi.space == ProbeSpace::standardised && cpi.bank_capacity == kContextBankCapacity;
+  return PitsScMethod::pretraining_shareable(context) && pretrains_as_pits_sc(cop_settings_, components_);
 }
 
 torch::Tensor CopFscilMethod::embed(const torch::Tensor& features) {
@@ -317,10 +326,8 @@ std::vector<MethodEntry> cop_fscil_entries() {
     };
     entry.work = [components](const ParameterSet& read, const RunSizes& sizes) {
       const CopFscilSettings cop = CopFscilSettings::from(read);
-      // As pretraining_shareable() decides (a --selection other than last aside).
-      const bool shareable = !components.pcqa && cop.pretrain_coverage == 0 &&
-                             cop.cpi.space == ProbeSpace::standardised && cop.cpi.bank_capacity == kContextBankCapacity;
-      std::vector<StageWork> stages = pits_sc_work(read, sizes, shareable ? PitsScMethod::kPretrainingStage : "pretraining");
+      std::vector<StageWork> stages = pits_sc_work(
+          read, sizes, pretrains_as_pits_sc(cop, components) ? PitsScMethod::kPretrainingStage : "pretraining");
       if (components.pcqa && cop.pic_weight > 0) {  // L_PIC embeds N_cp probed copies of every training batch
         for (StageWork& stage : stages) {
           if (stage.trained > 0) stage.inferred += cop.pic_probes * stage.trained;

@@ -1,7 +1,6 @@
 #include "methods/dsn/gaussian_replay.h"
 
 #include <cmath>
-
 #include <vector>
 
 namespace fscil {
