@@ -64,7 +64,9 @@ struct InferenceTiming {
 // Inference time per sample (IT) of the method as it stands: the median of `repeats` timed passes
 // of one batch of up to `batch` test samples through embed() and classify(), after one untimed
 // warm-up pass.
+constexpr std::int64_t kTimedInferenceBatch = 128;
+constexpr int kTimedInferenceRepeats = 7;
 InferenceTiming time_inference(Method& method, const PreparedDataset& dataset, const SessionSchedule& schedule,
-                               std::int64_t batch = 128, int repeats = 7);
+                               std::int64_t batch = kTimedInferenceBatch, int repeats = kTimedInferenceRepeats);
 
 }  // namespace fscil

@@ -43,17 +43,30 @@ double head_step_seconds(std::int64_t embedding_size, double seconds) {
   }, seconds);
 }
 
+// Puts torch's generator back as it was, however the timing ends.
+class RandomStateGuard {
+ public:
+  RandomStateGuard() : state_(torch_random_state()) {}
+  ~RandomStateGuard() { restore_torch_random_state(state_); }
+  RandomStateGuard(const RandomStateGuard&) = delete;
+  RandomStateGuard& operator=(const RandomStateGuard&) = delete;
+
+ private:
+  torch::Tensor state_;
+};
+
 }  // namespace
 
-StepRate measure_step_rate(const InputShape& shape, std::int64_t batch, double seconds) {
+StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
+                           double seconds) {
   constexpr std::int64_t kClasses = 60;
-  const torch::Tensor random_state = torch_random_state();  // a timing draws nothing a run would
-  ResNet18Encoder encoder(ResNet18Options{shape.channels, shape.mel_bins});
+  const RandomStateGuard keep_random_state;
+  ResNet18Encoder encoder(ResNet18Options{channels, mel_bins});
   CosineClassifier classifier(kClasses, encoder->embedding_size(), 16.0);
   std::vector<torch::Tensor> parameters = encoder->parameters();
   parameters.push_back(classifier->weight());
   auto optimizer = make_nesterov_sgd(parameters, SupervisedSchedule{});
-  const torch::Tensor features = torch::randn({batch, shape.channels, shape.mel_bins, shape.frames});
+  const torch::Tensor features = torch::randn({batch, channels, mel_bins, frames});
   const torch::Tensor labels = torch::randint(kClasses, {batch});
 
   StepRate rate;
@@ -68,7 +81,6 @@ StepRate measure_step_rate(const InputShape& shape, std::int64_t batch, double s
   torch::NoGradGuard no_grad;
   rate.infer_seconds_per_sample =
       seconds_per_step([&] { encoder->forward(features); }, seconds / 2) / static_cast<double>(batch);
-  restore_torch_random_state(random_state);
   return rate;
 }
 

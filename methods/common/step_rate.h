@@ -1,7 +1,6 @@
 #pragma once
 #include <cstdint>
 
-#include "methods/method.h"
 
 namespace fscil {
 
@@ -17,9 +16,10 @@ struct StepRate {
   double head_step_seconds = 0;
 };
 
-// Times whole batches of `batch` random inputs of `shape` (one untimed warm-up step each, then
-// steps until `seconds` have passed, at least two), and the head step, on the threads torch is set
-// to use.
-StepRate measure_step_rate(const InputShape& shape, std::int64_t batch, double seconds = 1.0);
+// Times whole batches of `batch` random log-Mel maps of channels x mel_bins x frames (one untimed
+// warm-up step each, then steps until `seconds` have passed, at least two), and the head step, on
+// the threads torch is set to use. Draws nothing from torch's generator that a run would see.
+StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
+                           double seconds = 1.0);
 
 }  // namespace fscil

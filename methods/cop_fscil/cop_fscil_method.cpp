@@ -335,7 +335,9 @@ std::vector<MethodEntry> cop_fscil_entries() {
       }
       if (components.pspc) {  // N_ps probe views of every shot
         const int probes = cop.pspc_probes > 0 ? cop.pspc_probes : default_pspc_probes(sizes.sample_values);
-        stages.back().inferred *= 1 + probes;
+        for (StageWork& stage : stages) {
+          if (!stage.base) stage.inferred *= 1 + probes;  // the sessions' shots
+        }
       }
       return stages;
     };

@@ -20,11 +20,6 @@ namespace fscil {
 // calibration. `kept`: best_mean / best_cov, what the Gaussians end with. The release keeps a
 // reference to the dict, so the calibrations after the kept epoch reach best_cov until the next
 // re-estimation makes a new dict (L279, L354, L386).
-// The head steps of such sessions (MethodEntry::work of dsn and amfo): `epochs` passes over each
-// session's shots and draws, `samples(s)` of them in session s, in batches of `batch`.
-double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch,
-                                  const std::function<double(int session)>& samples);
-
 class GaussianReplay {
  public:
   GaussianReplay(ClassGaussiansImpl& gaussians, const torch::Tensor& shots, const torch::Tensor& shot_labels,
@@ -53,5 +48,10 @@ class GaussianReplay {
   torch::Tensor working_means_, working_covariances_, kept_means_, kept_covariances_;
   torch::Tensor features_, labels_, is_real_shot_;
 };
+
+// The head steps of sessions built so (MethodEntry::work of dsn and amfo): `epochs` passes over each
+// session's shots and draws, `samples(s)` of them in session s, in batches of `batch`.
+double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch,
+                                  const std::function<double(int session)>& samples);
 
 }  // namespace fscil

@@ -352,7 +352,7 @@ MethodEntry orco_entry() {
     for (int session = 1; session < sizes.sessions; ++session) {
       const double memory = orco.exemplars_per_base_class * sizes.base_classes + session * shots;
       sessions.inferred += 2 * shots + static_cast<double>(sizes.base_validation) + orco.views * memory;
-      sessions.head_steps += orco.session.epochs * std::ceil(2 * memory / orco.session.batch_size);
+      sessions.head_steps += orco.session.epochs * std::ceil(memory / orco.session.batch_size);
     }
     return std::vector<StageWork>{pretraining, projector, sessions};
   };

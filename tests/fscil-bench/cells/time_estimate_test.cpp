@@ -34,7 +34,7 @@ TEST(RunSeconds, AddsEveryStageAtTheMeasuredRatesAndTheRunnersScoring) {
     return std::vector<StageWork>{{"pretraining", 100, 10, 0}, {"sessions", 0, 5, 20, false}};
   };
   entry.sessions_keep_embedding = true;
-  const MachineRates rates{0.5, 0.1, 0.01};
+  const StepRate rates{0.5, 0.1, 0.01};
   std::set<std::string> stages;
   // 100 x 0.5 + (10 + 5 + 200 scored once + 8 x 128 timed) x 0.1 + 20 x 0.01
   EXPECT_NEAR(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 174.1, 1e-9);
@@ -53,7 +53,7 @@ TEST(RunSeconds, ASharedStageIsCountedByTheFirstRunThatTrainsIt) {
   };
   entry.shared_stages["shared pretraining"] = {};
   entry.sessions_keep_embedding = true;
-  const MachineRates rates{1, 0, 0};
+  const StepRate rates{1, 0, 0};
   std::set<std::string> stages;
   EXPECT_DOUBLE_EQ(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 110);
   EXPECT_EQ(stages, std::set<std::string>{"shared pretraining"});
@@ -103,11 +103,12 @@ TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   EXPECT_DOUBLE_EQ(prototype.trained, 600);
   EXPECT_DOUBLE_EQ(prototype.inferred, 250 + 50);
   // Two masked views; assignment, 4 cached views and validation; 1 projector epoch of 2 batches;
-  // sessions: 2 x 25 shots and validation, and the 4 views of a memory of 50 + 25 s samples.
+  // sessions: 2 x 25 shots and validation, the 4 views of a memory of 50 + 25 s samples, and 10
+  // projector epochs over that memory in batches of 64.
   const Totals orco = totals("orco");
   EXPECT_DOUBLE_EQ(orco.trained, 1200);
   EXPECT_DOUBLE_EQ(orco.inferred, 200 + 800 + 50 + (50 + 50 + 4 * 75) + (50 + 50 + 4 * 100));
-  EXPECT_DOUBLE_EQ(orco.head_steps, 2 + 10 * 3 + 10 * 4);
+  EXPECT_DOUBLE_EQ(orco.head_steps, 2 + 10 * 2 + 10 * 2);
   // ARP: every batch of 128 carries 8 x 5 supports: 2 batches per epoch.
   EXPECT_DOUBLE_EQ(totals("arp").trained, 3 * (200 + 2 * 40));
   // PAN: (a) on 6 of the 10 classes' share, (c) on all; 4 episodes of 2 x 5 x 20.
@@ -125,14 +126,14 @@ TEST(MachineRates, AreMeasuredOnceAndThenReadFromTheCacheFolder) {
   sizes.mel_bins = 64;
   sizes.frames = 24;
   sizes.threads = 1;
-  sizes.batch = 16;
+  sizes.pretraining_batch = 16;
   sizes.cache_dir = cache.path().string();
-  const MachineRates measured = machine_rates(sizes);
+  const StepRate measured = machine_rates(sizes);
   EXPECT_GT(measured.train_seconds_per_sample, measured.infer_seconds_per_sample);
   EXPECT_GT(measured.infer_seconds_per_sample, 0);
   EXPECT_GT(measured.head_step_seconds, 0);
   ASSERT_TRUE(std::filesystem::exists(cache.path() / "step_rates.json"));
-  const MachineRates again = machine_rates(sizes);  // a second timing would differ in its last digits
+  const StepRate again = machine_rates(sizes);  // a second timing would differ in its last digits
   EXPECT_EQ(again.train_seconds_per_sample, measured.train_seconds_per_sample);
   EXPECT_EQ(again.head_step_seconds, measured.head_step_seconds);
 

@@ -13,7 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/parameter_set.h"
-#include "methods/common/step_rate.h"
+#include "protocols/protocol_runner.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
 #include "tools/fscil-bench/options/machine_info.h"
@@ -25,14 +25,14 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kRatesFile = "step_rates.json";
-constexpr int kTimedInferencePasses = 8;  // protocols/protocol_runner.h time_inference: a warm-up and 7
-constexpr std::int64_t kTimedInferenceBatch = 128;
+constexpr int kTimedInferencePasses = 1 + kTimedInferenceRepeats;  // time_inference's warm-up and timed passes
 
 // What the rates depend on: the CPU, the kernels the libraries chose, the threads, the shape and the batch.
+// The leading version changes whenever what measure_step_rate() times changes.
 std::string rates_key(const CommandSizes& sizes) {
   const auto machine = describe_machine();
-  return fmt::format("{} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
-                     sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.batch);
+  return fmt::format("v1 | {} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
+                     sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
 }
 
 nlohmann::json read_rates_file(const fs::path& file) {
@@ -42,10 +42,10 @@ nlohmann::json read_rates_file(const fs::path& file) {
   return stored.is_object() ? stored : nlohmann::json::object();
 }
 
-std::optional<MachineRates> stored_rates(const nlohmann::json& stored, const std::string& key) {
+std::optional<StepRate> stored_rates(const nlohmann::json& stored, const std::string& key) {
   const auto found = stored.find(key);
   if (found == stored.end() || !found->is_object()) return std::nullopt;
-  MachineRates rates;
+  StepRate rates;
   for (auto [name, value] : {std::pair{"train_seconds_per_sample", &rates.train_seconds_per_sample},
                              std::pair{"infer_seconds_per_sample", &rates.infer_seconds_per_sample},
                              std::pair{"head_step_seconds", &rates.head_step_seconds}}) {
@@ -58,27 +58,29 @@ std::optional<MachineRates> stored_rates(const nlohmann::json& stored, const std
 
 }  // namespace
 
-MachineRates machine_rates(const CommandSizes& sizes) {
+StepRate machine_rates(const CommandSizes& sizes) {
   const std::string key = rates_key(sizes);
   const fs::path file = sizes.cache_dir.empty() ? fs::path() : fs::path(sizes.cache_dir) / kRatesFile;
   nlohmann::json stored = file.empty() ? nlohmann::json::object() : read_rates_file(file);
   if (const auto rates = stored_rates(stored, key)) return *rates;
 
-  const StepRate measured = measure_step_rate({sizes.channels, sizes.mel_bins, sizes.frames, 0}, sizes.batch);
-  const MachineRates rates{measured.train_seconds_per_sample, measured.infer_seconds_per_sample,
-                           measured.head_step_seconds};
+  const StepRate rates = measure_step_rate(sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
   if (!file.empty()) {
     stored[key] = {{"train_seconds_per_sample", rates.train_seconds_per_sample},
                    {"infer_seconds_per_sample", rates.infer_seconds_per_sample},
                    {"head_step_seconds", rates.head_step_seconds}};
-    fs::create_directories(file.parent_path());
-    write_file_atomically(file, stored.dump(2) + "\n");
+    std::error_code unwritable;
+    fs::create_directories(file.parent_path(), unwritable);
+    try {
+      write_file_atomically(file, stored.dump(2) + "\n");
+    } catch (const std::exception&) {  // a cache that cannot be written costs time, not the plan
+    }
   }
   return rates;
 }
 
 double run_seconds(const MethodEntry& entry, const ParameterSet& read, const RunSizes& sizes,
-                   const MachineRates& rates, bool base_trained, std::set<std::string>& trained_stages) {
+                   const StepRate& rates, bool base_trained, std::set<std::string>& trained_stages) {
   double trained = 0, inferred = 0, head_steps = 0;
   std::vector<StageWork> stages;
   if (entry.work) {
@@ -106,17 +108,18 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
 
 void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
                     bool one_after_another) {
+  one_after_another = one_after_another && options.selection == "last";
   std::map<std::string, std::set<std::string>> trained_stages;  // per grid cell and seed
-  std::map<std::map<std::string, std::string>, std::pair<CommandSizes, MachineRates>> of_grid_cell;
+  std::map<std::map<std::string, std::string>, std::pair<CommandSizes, StepRate>> of_grid_cell;
   for (BenchCell& cell : cells) {
     const RunOptions run = grid.empty() ? options : sweep_cell_options(options, cell.grid);
     auto found = of_grid_cell.find(cell.grid);
     if (found == of_grid_cell.end()) {
       CommandSizes sizes = command_sizes(run);
-      const MachineRates rates = machine_rates(sizes);
+      const StepRate rates = machine_rates(sizes);
       found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), rates}).first;
     }
-    const MachineRates& rates = found->second.second;
+    const StepRate& rates = found->second.second;
     const RunSizes& run_sizes = found->second.first.runs.at(cell.seed);
     std::set<std::string> own_stages;
     std::set<std::string>& stages =

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "methods/common/step_rate.h"
 #include "methods/method_registry.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/commands/run_command.h"
@@ -11,18 +12,12 @@ namespace fscil {
 
 class ParameterSet;
 
-// Seconds per unit of work on this machine, for one input shape, batch and thread count
-// (methods/common/step_rate.h).
-struct MachineRates {
-  double train_seconds_per_sample = 0;
-  double infer_seconds_per_sample = 0;
-  double head_step_seconds = 0;
-};
-
-// This machine's rates for the command: from `step_rates.json` in its cache folder when that
-// holds this CPU, kernels, threads, shape and batch; otherwise measured now (about 2 s) and
-// stored there (not stored under --no-cache). A file that does not read is measured over.
-MachineRates machine_rates(const CommandSizes& sizes);
+// This machine's rates for the command (methods/common/step_rate.h): from `step_rates.json` in
+// its cache folder when that holds this CPU, kernels, threads, shape and batch; otherwise
+// measured now (a few seconds) and stored there (not under --no-cache; a folder that cannot be
+// written costs the next plan the measurement, nothing else). An entry that does not read is
+// measured over.
+StepRate machine_rates(const CommandSizes& sizes);
 
 // One run's seconds at `rates`: its stages (MethodEntry::work) and what the runner does for every
 // method: embedding the scored samples (once per run where the entry's sessions keep the
@@ -30,13 +25,14 @@ MachineRates machine_rates(const CommandSizes& sizes);
 // session is left out when `base_trained` (a method of its cell with the same shared_base_key
 // trained it); a stage the entry names in shared_stages is left out when `trained_stages` holds
 // it, and added there otherwise (a later cell of the same seed continues from it).
-double run_seconds(const MethodEntry& entry, const ParameterSet& read, const RunSizes& sizes,
-                   const MachineRates& rates, bool base_trained, std::set<std::string>& trained_stages);
+double run_seconds(const MethodEntry& entry, const ParameterSet& read, const RunSizes& sizes, const StepRate& rates,
+                   bool base_trained, std::set<std::string>& trained_stages);
 
 // Fills every cell's estimated_seconds on this machine; prepares the dataset as the command would
 // (from the cache, or built and cached). `one_after_another`: cells run in plan order in one
-// place, so a later cell continues from a shared stage an earlier one trained (a command, or
-// run-cells); otherwise (Slurm tasks at once) every cell trains its own.
+// place, so a later cell continues from a shared stage an earlier one trained (a whole command;
+// cells run apart share it through the stage cache); otherwise (Slurm tasks at once), or under a
+// --selection other than last (no stage is shared then), every cell trains its own.
 void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
                     bool one_after_another = true);
 

@@ -112,7 +112,14 @@ class PlanCommand : public CellsCommand {
   }
   int run(Invocation& invocation) override {
     auto cells = plan_cells(invocation.run, grid_);
-    if (!missing_only_ && !no_estimate_) estimate_cells(invocation.run, grid_, cells);
+    if (!missing_only_ && !no_estimate_) {
+      try {
+        estimate_cells(invocation.run, grid_, cells);
+      } catch (const Error& error) {  // e.g. a real dataset on a machine without its data: the cells still list
+        for (BenchCell& cell : cells) cell.estimated_seconds = -1;
+        fmt::print(stderr, "fscil-bench plan: no time estimate: {}\n", error.what());
+      }
+    }
     int status = exit_status::success;
     if (missing_only_) {
       cells.erase(std::remove_if(cells.begin(), cells.end(),

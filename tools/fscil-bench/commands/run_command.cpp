@@ -648,7 +648,7 @@ CommandSizes command_sizes(const RunOptions& options) {
   ProgressReporter quiet = ProgressReporter::quiet();
   const CommandPlan plan = plan_command(options, quiet);
   CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads,
-                     plan.params.integer("batch_size", SupervisedSchedule{}.batch_size, ValidRange::at_least(2)), {},
+                     SupervisedSchedule::from(plan.params).batch_size, {},
                      options.no_cache ? std::string() : cache_folder(options).string()};
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
     const SessionSchedule& schedule = plan.schedules[i];

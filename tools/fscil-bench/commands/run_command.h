@@ -57,7 +57,7 @@ std::string run_benchmark(const RunOptions& options);
 struct CommandSizes {
   std::int64_t channels = 0, mel_bins = 0, frames = 0;
   int threads = 0;
-  std::int64_t batch = 0;
+  std::int64_t pretraining_batch = 0;
   std::map<std::uint64_t, RunSizes> runs;  // by seed
   std::string cache_dir;                   // where this command caches (empty: --no-cache)
 };

@@ -179,7 +179,8 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
   if (limits.time.empty() && !chosen.empty()) {
     limits.time = suggested_time(options, grid, cells, chosen, cpus);
     time_note = "# --time was not given: the limit below is fscil-bench's suggestion, 1.5 x the longest cell's\n"
-                "# estimate on the machine that wrote this script (fscil-bench plan), at least 10 minutes.\n";
+                "# estimate on the machine that wrote this script (fscil-bench plan), at least 10 minutes. Give\n"
+                "# --time when the nodes are slower, or when it passes the partition's MaxTime.\n";
   }
   const fs::path workdir = fs::current_path();
   const fs::path folder = fs::absolute(options.out) / "slurm";
