@@ -57,11 +57,11 @@ void GaussianReplay::finish() {
   if (kept_means_.defined()) gaussians_.blend(first_, kept_means_, kept_covariances_);
 }
 
-double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch,
+double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch, double steps_per_class,
                                   const std::function<double(int session)>& samples) {
   double steps = 0;
   for (int session = 1; session < sizes.sessions; ++session) {
-    steps += epochs * std::ceil(samples(session) / batch);
+    steps += epochs * (std::ceil(samples(session) / batch) + steps_per_class * sizes.classes_before(session));
   }
   return steps;
 }

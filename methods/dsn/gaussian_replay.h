@@ -50,8 +50,10 @@ class GaussianReplay {
 };
 
 // The head steps of sessions built so (MethodEntry::work of dsn and amfo): `epochs` passes over each
-// session's shots and draws, `samples(s)` of them in session s, in batches of `batch`.
-double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch,
+// session's shots and draws, `samples(s)` of them in session s, in batches of `batch`, and per epoch
+// `steps_per_class` for every class seen before the session: the small operations each class's
+// draws, calibration and loss terms take, which no batch count shows (measured: docs/profiling.md).
+double gaussian_replay_head_steps(const RunSizes& sizes, int epochs, int batch, double steps_per_class,
                                   const std::function<double(int session)>& samples);
 
 }  // namespace fscil

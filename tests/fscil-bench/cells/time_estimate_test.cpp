@@ -114,12 +114,12 @@ TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   // PAN: (a) on 6 of the 10 classes' share, (c) on all; 4 episodes of 2 x 5 x 20.
   EXPECT_DOUBLE_EQ(totals("pan").trained, 3 * 200 * 1.6 + 4 * 200);
   // AMFO: 10 epochs a session, each one batch: 10 draws of the 10 classes before it, 5 of each
-  // new class and the 25 shots (150); then 10 x 15 + 50 (200).
-  EXPECT_DOUBLE_EQ(totals("amfo").head_steps, 10 + 10);
+  // new class and the 25 shots (150); then 10 x 15 + 50 (200); and 0.31 steps per earlier class.
+  EXPECT_DOUBLE_EQ(totals("amfo").head_steps, 10 * (1 + 0.31 * 10) + 10 * (1 + 0.31 * 15));
   for (const auto& entry : method_registry()) EXPECT_TRUE(entry.work) << entry.name << " declares no work";
 }
 
-TEST(MachineRates, AreMeasuredOnceAndThenReadFromTheCacheFolder) {
+TEST(MachineRates, AreReadFromTheCacheFolderAndMeasuredWhereItHoldsNoneThatRead) {
   TemporaryDirectory cache;
   CommandSizes sizes;
   sizes.channels = 5;
@@ -128,18 +128,29 @@ TEST(MachineRates, AreMeasuredOnceAndThenReadFromTheCacheFolder) {
   sizes.threads = 1;
   sizes.pretraining_batch = 16;
   sizes.cache_dir = cache.path().string();
+  const auto file = cache.path() / "step_rates.json";
+  std::ofstream(file) << "{\"" << step_rates_key(sizes) << "\": {\"train_seconds_per_sample\": 0.002, "
+                      << "\"infer_seconds_per_sample\": 0.0005, \"head_step_seconds\": 0.004}}";
+  const StepRate stored = machine_rates(sizes);
+  EXPECT_EQ(stored.train_seconds_per_sample, 0.002);
+  EXPECT_EQ(stored.infer_seconds_per_sample, 0.0005);
+  EXPECT_EQ(stored.head_step_seconds, 0.004);
+
+  // Another thread count is another entry: measured (a training step costs more than inference).
+  sizes.threads = 2;
   const StepRate measured = machine_rates(sizes);
   EXPECT_GT(measured.train_seconds_per_sample, measured.infer_seconds_per_sample);
   EXPECT_GT(measured.infer_seconds_per_sample, 0);
   EXPECT_GT(measured.head_step_seconds, 0);
-  ASSERT_TRUE(std::filesystem::exists(cache.path() / "step_rates.json"));
-  const StepRate again = machine_rates(sizes);  // a second timing would differ in its last digits
-  EXPECT_EQ(again.train_seconds_per_sample, measured.train_seconds_per_sample);
-  EXPECT_EQ(again.head_step_seconds, measured.head_step_seconds);
+  sizes.threads = 1;
+  EXPECT_EQ(machine_rates(sizes).train_seconds_per_sample, 0.002) << "the stored entry is kept beside it";
 
-  std::ofstream(cache.path() / "step_rates.json") << "{\"cut";  // a broken cache is measured over
+  std::ofstream(file) << "{\"cut";  // a broken file is measured over
   EXPECT_GT(machine_rates(sizes).train_seconds_per_sample, 0);
-  EXPECT_EQ(machine_rates(sizes).train_seconds_per_sample, machine_rates(sizes).train_seconds_per_sample);
+  sizes.cache_dir.clear();  // --no-cache: measured, nothing written
+  std::filesystem::remove(file);
+  EXPECT_GT(machine_rates(sizes).train_seconds_per_sample, 0);
+  EXPECT_FALSE(std::filesystem::exists(file));
 }
 
 }  // namespace

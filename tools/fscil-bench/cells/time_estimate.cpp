@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -13,6 +14,7 @@
 
 #include "core/atomic_file.h"
 #include "core/parameter_set.h"
+#include "core/stopwatch.h"
 #include "protocols/protocol_runner.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
@@ -25,15 +27,21 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kRatesFile = "step_rates.json";
+constexpr double kKeptCpuShare = 0.9;
+
+double process_cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 constexpr int kTimedInferencePasses = 1 + kTimedInferenceRepeats;  // time_inference's warm-up and timed passes
 
 // What the rates depend on: the CPU, the kernels the libraries chose, the threads, the shape and the batch.
-// The leading version changes whenever what measure_step_rate() times changes.
-std::string rates_key(const CommandSizes& sizes) {
+}  // namespace
+
+std::string step_rates_key(const CommandSizes& sizes) {
   const auto machine = describe_machine();
   return fmt::format("v1 | {} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
                      sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
 }
+
+namespace {
 
 nlohmann::json read_rates_file(const fs::path& file) {
   std::ifstream in(file);
@@ -59,13 +67,18 @@ std::optional<StepRate> stored_rates(const nlohmann::json& stored, const std::st
 }  // namespace
 
 StepRate machine_rates(const CommandSizes& sizes) {
-  const std::string key = rates_key(sizes);
+  const std::string key = step_rates_key(sizes);
   const fs::path file = sizes.cache_dir.empty() ? fs::path() : fs::path(sizes.cache_dir) / kRatesFile;
   nlohmann::json stored = file.empty() ? nlohmann::json::object() : read_rates_file(file);
   if (const auto rates = stored_rates(stored, key)) return *rates;
 
+  const double cpu_before = process_cpu_seconds();
+  const Stopwatch wall;
   const StepRate rates = measure_step_rate(sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
-  if (!file.empty()) {
+  // Kept only when its threads had the cores to themselves: a calibration beside other work (or
+  // on a host that takes the VM's time) would slow every later plan's estimate.
+  const double cpu_share = (process_cpu_seconds() - cpu_before) / (wall.seconds() * std::max(sizes.threads, 1));
+  if (!file.empty() && cpu_share >= kKeptCpuShare) {
     stored[key] = {{"train_seconds_per_sample", rates.train_seconds_per_sample},
                    {"infer_seconds_per_sample", rates.infer_seconds_per_sample},
                    {"head_step_seconds", rates.head_step_seconds}};

@@ -14,10 +14,14 @@ class ParameterSet;
 
 // This machine's rates for the command (methods/common/step_rate.h): from `step_rates.json` in
 // its cache folder when that holds this CPU, kernels, threads, shape and batch; otherwise
-// measured now (a few seconds) and stored there (not under --no-cache; a folder that cannot be
-// written costs the next plan the measurement, nothing else). An entry that does not read is
-// measured over.
+// measured now (a few seconds) and stored there, unless the process had less than 90% of its
+// threads' CPU time meanwhile (other work, or a host taking the VM's time: used for this plan,
+// not kept), under --no-cache, or where the folder cannot be written. An entry that does not
+// read is measured over.
 StepRate machine_rates(const CommandSizes& sizes);
+// The entry of `step_rates.json` that holds them; its leading version changes whenever what
+// measure_step_rate() times changes.
+std::string step_rates_key(const CommandSizes& sizes);
 
 // One run's seconds at `rates`: its stages (MethodEntry::work) and what the runner does for every
 // method: embedding the scored samples (once per run where the entry's sessions keep the
