@@ -28,20 +28,9 @@ namespace {
 
 constexpr const char* kRatesFile = "step_rates.json";
 constexpr double kKeptCpuShare = 0.9;
-
-double process_cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 constexpr int kTimedInferencePasses = 1 + kTimedInferenceRepeats;  // time_inference's warm-up and timed passes
 
-// What the rates depend on: the CPU, the kernels the libraries chose, the threads, the shape and the batch.
-}  // namespace
-
-std::string step_rates_key(const CommandSizes& sizes) {
-  const auto machine = describe_machine();
-  return fmt::format("v1 | {} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
-                     sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
-}
-
-namespace {
+double process_cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 nlohmann::json read_rates_file(const fs::path& file) {
   std::ifstream in(file);
@@ -65,6 +54,13 @@ std::optional<StepRate> stored_rates(const nlohmann::json& stored, const std::st
 }
 
 }  // namespace
+
+// What the rates depend on: the CPU, the kernels the libraries chose, the threads, the shape and the batch.
+std::string step_rates_key(const CommandSizes& sizes) {
+  const auto machine = describe_machine();
+  return fmt::format("v1 | {} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
+                     sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
+}
 
 StepRate machine_rates(const CommandSizes& sizes) {
   const std::string key = step_rates_key(sizes);
@@ -132,8 +128,9 @@ void estimate_cells(const RunOptions& options, const std::vector<std::string>& g
       const StepRate rates = machine_rates(sizes);
       found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), rates}).first;
     }
+    const CommandSizes& sizes = found->second.first;
     const StepRate& rates = found->second.second;
-    const RunSizes& run_sizes = found->second.first.runs.at(cell.seed);
+    const RunSizes& run_sizes = sizes.runs.at(cell.seed);
     std::set<std::string> own_stages;
     std::set<std::string>& stages =
         one_after_another ? trained_stages[fmt::format("{}|{}", grid_cell_name(cell.grid), cell.seed)] : own_stages;
@@ -141,7 +138,8 @@ void estimate_cells(const RunOptions& options, const std::vector<std::string>& g
     for (std::size_t i = 0; i < cell.methods.size(); ++i) {
       const MethodEntry& entry = method_entry(cell.methods[i]);
       // A cell's methods share one base (their shared_base_key): the first trains it.
-      cell.estimated_seconds += run_seconds(entry, method_parameters(run, cell.methods[i]), run_sizes, rates, i > 0, stages);
+      cell.estimated_seconds +=
+          run_seconds(entry, sizes.method_parameters.at(cell.methods[i]), run_sizes, rates, i > 0, stages);
     }
   }
 }

@@ -649,7 +649,7 @@ CommandSizes command_sizes(const RunOptions& options) {
   const CommandPlan plan = plan_command(options, quiet);
   CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads,
                      SupervisedSchedule::from(plan.params).batch_size, {},
-                     options.no_cache ? std::string() : cache_folder(options).string()};
+                     options.no_cache ? std::string() : cache_folder(options).string(), {}};
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
     const SessionSchedule& schedule = plan.schedules[i];
     RunSizes run;
@@ -668,6 +668,9 @@ CommandSizes command_sizes(const RunOptions& options) {
       }));
     }
     sizes.runs[plan.seeds[i]] = run;
+  }
+  for (std::size_t i = 0; i < plan.method_names.size(); ++i) {
+    sizes.method_parameters.emplace(plan.method_names[i], plan.method_params[i]);
   }
   return sizes;
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/parameter_set.h"
 #include "methods/method_registry.h"
 
 namespace fscil {
@@ -53,13 +54,14 @@ std::string run_benchmark(const RunOptions& options);
 
 // What `fscil-bench plan` estimates a command's time from, prepared as the command prepares it
 // (the dataset from the cache, or built and cached; the same schedules): the input shape, the
-// threads, the pretraining batch and each seed's run sizes.
+// threads, the pretraining batch, each seed's run sizes and what each method read.
 struct CommandSizes {
   std::int64_t channels = 0, mel_bins = 0, frames = 0;
   int threads = 0;
   std::int64_t pretraining_batch = 0;
   std::map<std::uint64_t, RunSizes> runs;  // by seed
   std::string cache_dir;                   // where this command caches (empty: --no-cache)
+  std::map<std::string, ParameterSet> method_parameters;  // by method, as its run reads them
 };
 CommandSizes command_sizes(const RunOptions& options);
 
