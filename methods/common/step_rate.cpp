@@ -2,29 +2,35 @@
 
 #include <torch/torch.h>
 
+#include <algorithm>
 #include <functional>
+#include <vector>
 
 #include "core/stopwatch.h"
 #include "methods/common/cosine_classifier.h"
-#include "methods/common/resnet18.h"
-#include "methods/common/supervised_training.h"
+#include "methods/common/encoder_step.h"
 #include "methods/common/torch_random_state.h"
 
 namespace fscil {
 
 namespace {
 
-// Seconds per step after one untimed warm-up step (first-touch page faults, oneDNN's kernel
-// generation), over at least two steps and `seconds`.
+// The median seconds of a step, after one untimed warm-up step (first-touch page faults, oneDNN's
+// kernel generation), over at least seven steps and `seconds`: the median, because a few steps
+// slowed by other work or by the host would pull a mean (calibrations of one second differed by
+// a third from one another on an idle machine).
 double seconds_per_step(const std::function<void()>& step, double seconds) {
+  constexpr std::size_t kLeastSteps = 7;
   step();
   Stopwatch clock;
-  int steps = 0;
-  while (steps < 2 || clock.seconds() < seconds) {
+  std::vector<double> steps;
+  while (steps.size() < kLeastSteps || clock.seconds() < seconds) {
+    Stopwatch one;
     step();
-    ++steps;
+    steps.push_back(one.seconds());
   }
-  return clock.seconds() / steps;
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  return steps[steps.size() / 2];
 }
 
 double head_step_seconds(std::int64_t embedding_size, double seconds) {
@@ -59,28 +65,12 @@ class RandomStateGuard {
 
 StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
                            double seconds) {
-  constexpr std::int64_t kClasses = 60;
   const RandomStateGuard keep_random_state;
-  ResNet18Encoder encoder(ResNet18Options{channels, mel_bins});
-  CosineClassifier classifier(kClasses, encoder->embedding_size(), 16.0);
-  std::vector<torch::Tensor> parameters = encoder->parameters();
-  parameters.push_back(classifier->weight());
-  auto optimizer = make_nesterov_sgd(parameters, SupervisedSchedule{});
-  const torch::Tensor features = torch::randn({batch, channels, mel_bins, frames});
-  const torch::Tensor labels = torch::randint(kClasses, {batch});
-
+  EncoderStep work(channels, mel_bins, frames, batch);
   StepRate rate;
-  encoder->train();
-  rate.train_seconds_per_sample = seconds_per_step([&] {
-    optimizer.zero_grad();
-    torch::cross_entropy_loss(classifier->forward(encoder->forward(features), kClasses), labels).backward();
-    optimizer.step();
-  }, seconds) / static_cast<double>(batch);
-  rate.head_step_seconds = head_step_seconds(encoder->embedding_size(), seconds / 4);
-  encoder->eval();
-  torch::NoGradGuard no_grad;
-  rate.infer_seconds_per_sample =
-      seconds_per_step([&] { encoder->forward(features); }, seconds / 2) / static_cast<double>(batch);
+  rate.train_seconds_per_sample = seconds_per_step([&] { work.train(); }, seconds) / static_cast<double>(batch);
+  rate.head_step_seconds = head_step_seconds(work.encoder()->embedding_size(), seconds / 4);
+  rate.infer_seconds_per_sample = seconds_per_step([&] { work.infer(); }, seconds / 2) / static_cast<double>(batch);
   return rate;
 }
 

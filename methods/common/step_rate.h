@@ -17,8 +17,9 @@ struct StepRate {
 };
 
 // Times whole batches of `batch` random log-Mel maps of channels x mel_bins x frames (one untimed
-// warm-up step each, then steps until `seconds` have passed, at least two), and the head step, on
-// the threads torch is set to use. Draws nothing from torch's generator that a run would see.
+// warm-up step each, then the median of the steps until `seconds` have passed, at least seven),
+// and the head step, on the threads torch is set to use. Draws nothing from torch's generator
+// that a run would see.
 StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
                            double seconds = 1.0);
 

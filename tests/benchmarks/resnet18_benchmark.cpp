@@ -9,14 +9,13 @@
 
 #include <chrono>
 
-#include "methods/common/cosine_classifier.h"
+#include "methods/common/encoder_step.h"
 #include "methods/common/resnet18.h"
-#include "methods/common/supervised_training.h"
 #include "tests/benchmarks/pytorch_anchors.h"
 
 namespace {
 
-constexpr std::int64_t kBatch = 128, kClasses = 60;
+constexpr std::int64_t kBatch = 128;
 constexpr double kTarget = 1.2;  // times PyTorch's rate
 
 struct Shape {
@@ -43,38 +42,22 @@ void report(benchmark::State& state, const std::string& figure, double flops_per
 
 void train(benchmark::State& state, Shape shape) {
   torch::manual_seed(1);
-  fscil::ResNet18Encoder encoder(fscil::ResNet18Options{shape.channels, shape.mel_bins});
-  fscil::CosineClassifier classifier(kClasses, encoder->embedding_size(), 16.0);
-  std::vector<torch::Tensor> parameters = encoder->parameters();
-  parameters.push_back(classifier->weight());
-  auto optimizer = fscil::make_nesterov_sgd(parameters, fscil::SupervisedSchedule{});
-  encoder->train();
-  const torch::Tensor features = torch::randn({kBatch, shape.channels, shape.mel_bins, shape.frames});
-  const torch::Tensor labels = torch::randint(kClasses, {kBatch});
-  const auto step = [&] {
-    optimizer.zero_grad();
-    const torch::Tensor loss = torch::cross_entropy_loss(classifier->forward(encoder->forward(features), kClasses), labels);
-    loss.backward();
-    optimizer.step();
-  };
-  step();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
+  fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
+  work.train();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
   const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) step();
+  for (auto _ : state) work.train();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report(state, fmt::format("train/{}", shape.name), 3 * forward_flops(encoder, shape), seconds);
+  report(state, fmt::format("train/{}", shape.name), 3 * forward_flops(work.encoder(), shape), seconds);
 }
 
 void infer(benchmark::State& state, Shape shape) {
   torch::manual_seed(1);
-  fscil::ResNet18Encoder encoder(fscil::ResNet18Options{shape.channels, shape.mel_bins});
-  encoder->eval();
-  torch::NoGradGuard no_grad;
-  const torch::Tensor features = torch::randn({kBatch, shape.channels, shape.mel_bins, shape.frames});
-  encoder->forward(features);  // warm-up
+  fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
+  work.infer();  // warm-up
   const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) benchmark::DoNotOptimize(encoder->forward(features).data_ptr());
+  for (auto _ : state) work.infer();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report(state, fmt::format("infer/{}", shape.name), forward_flops(encoder, shape), seconds);
+  report(state, fmt::format("infer/{}", shape.name), forward_flops(work.encoder(), shape), seconds);
 }
 
 void matmul_peak(benchmark::State& state) {
