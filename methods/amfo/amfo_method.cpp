@@ -257,8 +257,8 @@ MethodEntry amfo_entry() {
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const AmfoSettings amfo = AmfoSettings::from(read);
     StageWork sessions = session_work(sizes, 0);
-    // 0.31 head steps per class and epoch, two heads' worth of DSN's: fitted as dsn's is.
-    sessions.head_steps = gaussian_replay_head_steps(sizes, amfo.session_epochs, amfo.session_batch, 0.31, [&](int session) {
+    // 0.48 head steps per class and epoch (two heads, a fusion net): fitted as dsn's is.
+    sessions.head_steps = gaussian_replay_head_steps(sizes, amfo.session_epochs, amfo.session_batch, 0.48, [&](int session) {
       return static_cast<double>(amfo.old_samples * sizes.classes_before(session) + (amfo.new_samples + sizes.shot) * sizes.way);
     });
     return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes), sessions};

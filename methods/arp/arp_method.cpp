@@ -184,7 +184,9 @@ MethodEntry arp_entry() {
     StageWork base = pretraining_work(read, sizes);
     const double batches = std::ceil(static_cast<double>(sizes.base_train) / arp.base.batch_size);
     const double supports = std::min<double>(arp.way + arp.tasks, sizes.base_classes) * arp.shot;
-    base.trained += arp.base.epochs * batches * supports;
+    // The supports pass alone, a small batch: 3.8 times a sample's share of a full batch, fitted on
+    // simtex, fast, seed 1 (docs/profiling.md).
+    base.trained += 3.8 * arp.base.epochs * batches * supports;
     if (arp.base.epochs > arp.early_stop_tol + 1) base.inferred = arp.base.epochs * static_cast<double>(sizes.base_validation);
     return std::vector<StageWork>{base, base_embedding_work(sizes, 0), session_work(sizes, 0)};
   };

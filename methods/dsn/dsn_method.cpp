@@ -205,8 +205,8 @@ MethodEntry dsn_entry() {
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const DsnSettings dsn = DsnSettings::from(read);
     StageWork sessions = session_work(sizes, 0);
-    // 0.16 head steps per class and epoch: fitted on simtex, fast, seed 1 (docs/profiling.md).
-    sessions.head_steps = gaussian_replay_head_steps(sizes, dsn.session_epochs, dsn.session_batch, 0.16, [&](int session) {
+    // 0.21 head steps per class and epoch: fitted on simtex, fast, seed 1 (docs/profiling.md).
+    sessions.head_steps = gaussian_replay_head_steps(sizes, dsn.session_epochs, dsn.session_batch, 0.21, [&](int session) {
       const double earlier_novel = sizes.classes_before(session) - sizes.base_classes;
       return dsn.base_samples * sizes.base_classes + dsn.old_samples * earlier_novel +
              (dsn.new_samples + sizes.shot) * sizes.way;

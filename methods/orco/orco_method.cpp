@@ -352,7 +352,9 @@ MethodEntry orco_entry() {
     for (int session = 1; session < sizes.sessions; ++session) {
       const double memory = orco.exemplars_per_base_class * sizes.base_classes + session * shots;
       sessions.inferred += 2 * shots + static_cast<double>(sizes.base_validation) + orco.views * memory;
-      sessions.head_steps += orco.session.epochs * std::ceil(memory / orco.session.batch_size);
+      // A projector step (D -> 2048 -> 128 on every cached view, SupCon, orthogonality) costs about 7
+      // calibrated head steps: fitted on simtex, fast, seed 1 (docs/profiling.md).
+      sessions.head_steps += 7 * orco.session.epochs * std::ceil(memory / orco.session.batch_size);
     }
     return std::vector<StageWork>{pretraining, projector, sessions};
   };

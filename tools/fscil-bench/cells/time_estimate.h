@@ -35,8 +35,9 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
 // Fills every cell's estimated_seconds on this machine; prepares the dataset as the command would
 // (from the cache, or built and cached). `one_after_another`: cells run in plan order in one
 // place, so a later cell continues from a shared stage an earlier one trained (a whole command;
-// cells run apart share it through the stage cache); otherwise (Slurm tasks at once), or under a
-// --selection other than last (no stage is shared then), every cell trains its own.
+// cells run apart share it through the stage cache); otherwise (Slurm tasks at once), under a
+// --selection other than last (no stage is shared then) or --no-stage-cache, every cell trains
+// its own.
 void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
                     bool one_after_another = true);
 
