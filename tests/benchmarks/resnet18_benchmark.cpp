@@ -2,7 +2,7 @@
 // against PyTorch doing the same work from Python, measured earlier in the same `bench` run
 // (pytorch_anchors.py), with the achieved GFLOP/s beside a 2048 x 2048 matrix product and a
 // 3 x 3 convolution measured here. Training GFLOP/s counts 3 x the forward (forward, input
-// gradients, weight gradients). Target: at least 1.2x PyTorch's rate on every shape.
+// gradients, weight gradients). Target: at least 1.3x PyTorch's rate on every shape.
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <torch/torch.h>
@@ -16,7 +16,7 @@
 namespace {
 
 constexpr std::int64_t kBatch = 128;
-constexpr double kTarget = 1.2;  // times PyTorch's rate
+constexpr double kTarget = 1.3;  // times PyTorch's rate
 
 struct Shape {
   const char* name;  // as pytorch_anchors.py names it

@@ -1,0 +1,59 @@
+#!/usr/bin/env python3
+"""Where PyTorch's training step of the shared ResNet-18 spends its time, from Python.
+
+The counterpart of resnet18_step_profile: pytorch_anchors.py's model, batch, optimiser and
+threads, a few steps after warm-up under torch.profiler, operators by self time and first input
+shape. Needs Debian's python3-torch (tools/bench_setup.sh).
+
+    /usr/bin/python3 pytorch_step_profile.py CHANNELS MEL_BINS FRAMES [STEPS] [ROWS]
+"""
+import os
+import sys
+import time
+
+from pytorch_anchors import BATCH, CLASSES, resnet18
+
+
+def main():
+    if len(sys.argv) < 4:
+        print(__doc__.strip().splitlines()[-1].strip(), file=sys.stderr)
+        return 2
+    channels, mel_bins, frames = (int(value) for value in sys.argv[1:4])
+    steps = int(sys.argv[4]) if len(sys.argv) > 4 else 3
+    rows = int(sys.argv[5]) if len(sys.argv) > 5 else 30
+    import torch
+    import torch.nn.functional as F
+    torch.set_num_threads(os.cpu_count() or 1)  # as pytorch_anchors.py
+    torch.manual_seed(1)
+    encoder = resnet18(torch, channels, mel_bins)
+    weight = torch.nn.Parameter(torch.randn(CLASSES, 256))
+    optimizer = torch.optim.SGD(list(encoder.parameters()) + [weight], lr=0.1, momentum=0.9,
+                                nesterov=True, weight_decay=5e-4)
+    features = torch.randn(BATCH, channels, mel_bins, frames)
+    labels = torch.randint(CLASSES, (BATCH,))
+
+    def train_step():
+        optimizer.zero_grad()
+        logits = 16.0 * F.normalize(encoder(features), dim=1) @ F.normalize(weight, dim=1).t()
+        F.cross_entropy(logits, labels).backward()
+        optimizer.step()
+
+    encoder.train()
+    train_step()
+    train_step()
+    start = time.perf_counter()
+    for _ in range(steps):
+        train_step()
+    unprofiled_ms = (time.perf_counter() - start) * 1000 / steps
+    with torch.profiler.profile(activities=[torch.profiler.ProfilerActivity.CPU], record_shapes=True) as profile:
+        for _ in range(steps):
+            train_step()
+    print(f"training step {channels}x{mel_bins}x{frames}, batch {BATCH}, {torch.get_num_threads()} threads: "
+          f"{unprofiled_ms:.1f} ms unprofiled (totals below are over {steps} steps)")
+    print(profile.key_averages(group_by_input_shape=True).table(sort_by="self_cpu_time_total", row_limit=rows))
+    print(profile.key_averages().table(sort_by="self_cpu_time_total", row_limit=rows))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
