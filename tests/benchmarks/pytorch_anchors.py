@@ -90,11 +90,13 @@ def resnet18(torch, channels, mel_bins):
     return Encoder()
 
 
-def resnet_rates(torch, name, channels, mel_bins, frames, timing):
+def resnet_training(torch, channels, mel_bins, frames):
+    """The encoder, one batch of random maps, and a training step on it: a cosine classifier at
+    temperature 16, Nesterov SGD (methods/common/encoder_step.cpp)."""
     F = torch.nn.functional
     torch.manual_seed(1)
     encoder = resnet18(torch, channels, mel_bins)
-    weight = torch.nn.Parameter(torch.randn(CLASSES, 256))  # the cosine classifier, temperature 16
+    weight = torch.nn.Parameter(torch.randn(CLASSES, 256))
     optimizer = torch.optim.SGD(list(encoder.parameters()) + [weight], lr=0.1, momentum=0.9,
                                 nesterov=True, weight_decay=5e-4)
     features = torch.randn(BATCH, channels, mel_bins, frames)
@@ -106,6 +108,11 @@ def resnet_rates(torch, name, channels, mel_bins, frames, timing):
         F.cross_entropy(logits, labels).backward()
         optimizer.step()
 
+    return encoder, features, train_step
+
+
+def resnet_rates(torch, name, channels, mel_bins, frames, timing):
+    encoder, features, train_step = resnet_training(torch, channels, mel_bins, frames)
     encoder.train()
     steps, seconds = timed(train_step, timing.get("min_time"), timing.get("train_iterations"))
     rates = {f"train/{name}": BATCH * steps / seconds}

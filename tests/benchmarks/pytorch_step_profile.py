@@ -11,7 +11,7 @@ import os
 import sys
 import time
 
-from pytorch_anchors import BATCH, CLASSES, resnet18
+from pytorch_anchors import BATCH, resnet_training
 
 
 def main():
@@ -22,22 +22,8 @@ def main():
     steps = int(sys.argv[4]) if len(sys.argv) > 4 else 3
     rows = int(sys.argv[5]) if len(sys.argv) > 5 else 30
     import torch
-    import torch.nn.functional as F
     torch.set_num_threads(os.cpu_count() or 1)  # as pytorch_anchors.py
-    torch.manual_seed(1)
-    encoder = resnet18(torch, channels, mel_bins)
-    weight = torch.nn.Parameter(torch.randn(CLASSES, 256))
-    optimizer = torch.optim.SGD(list(encoder.parameters()) + [weight], lr=0.1, momentum=0.9,
-                                nesterov=True, weight_decay=5e-4)
-    features = torch.randn(BATCH, channels, mel_bins, frames)
-    labels = torch.randint(CLASSES, (BATCH,))
-
-    def train_step():
-        optimizer.zero_grad()
-        logits = 16.0 * F.normalize(encoder(features), dim=1) @ F.normalize(weight, dim=1).t()
-        F.cross_entropy(logits, labels).backward()
-        optimizer.step()
-
+    encoder, _, train_step = resnet_training(torch, channels, mel_bins, frames)
     encoder.train()
     train_step()
     train_step()
