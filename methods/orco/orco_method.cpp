@@ -345,16 +345,17 @@ MethodEntry orco_entry() {
     const double n = static_cast<double>(sizes.base_train), shots = static_cast<double>(sizes.way) * sizes.shot;
     StageWork pretraining = pretraining_work(read, sizes);
     pretraining.trained *= 2;  // two masked views of every sample
+    // A projector step (D -> 2048 -> 128 on two cached views of each sample, SupCon, orthogonality)
+    // costs about 7 calibrated head steps: fitted on simtex, fast, seed 1 (docs/profiling.md).
+    constexpr double kProjectorStep = 7;
     // Assignment, the cached views and validation; then the projector alone on the cached views.
     StageWork projector{"projector", 0, n + orco.views * n + static_cast<double>(sizes.base_validation),
-                        orco.base.epochs * std::ceil(n / orco.base.batch_size)};
+                        kProjectorStep * orco.base.epochs * std::ceil(n / orco.base.batch_size)};
     StageWork sessions{"sessions", 0, 0, 0, false};
     for (int session = 1; session < sizes.sessions; ++session) {
       const double memory = orco.exemplars_per_base_class * sizes.base_classes + session * shots;
       sessions.inferred += 2 * shots + static_cast<double>(sizes.base_validation) + orco.views * memory;
-      // A projector step (D -> 2048 -> 128 on every cached view, SupCon, orthogonality) costs about 7
-      // calibrated head steps: fitted on simtex, fast, seed 1 (docs/profiling.md).
-      sessions.head_steps += 7 * orco.session.epochs * std::ceil(memory / orco.session.batch_size);
+      sessions.head_steps += kProjectorStep * orco.session.epochs * std::ceil(memory / orco.session.batch_size);
     }
     return std::vector<StageWork>{pretraining, projector, sessions};
   };

@@ -15,13 +15,24 @@ from pytorch_anchors import BATCH, resnet_training
 
 
 def main():
-    if len(sys.argv) < 4:
-        print(__doc__.strip().splitlines()[-1].strip(), file=sys.stderr)
+    try:
+        if not 4 <= len(sys.argv) <= 6:
+            raise ValueError("wrong number of arguments")
+        channels, mel_bins, frames = (int(value) for value in sys.argv[1:4])
+        steps = int(sys.argv[4]) if len(sys.argv) > 4 else 3
+        rows = int(sys.argv[5]) if len(sys.argv) > 5 else 30
+        if min(channels, steps, rows) < 1 or min(mel_bins, frames) < 8:
+            raise ValueError("out of range")
+    except ValueError as error:
+        print(f"pytorch_step_profile.py: {error}: expected CHANNELS MEL_BINS FRAMES [STEPS] [ROWS], whole numbers: "
+              "CHANNELS, STEPS and ROWS >= 1, MEL_BINS and FRAMES >= 8", file=sys.stderr)
         return 2
-    channels, mel_bins, frames = (int(value) for value in sys.argv[1:4])
-    steps = int(sys.argv[4]) if len(sys.argv) > 4 else 3
-    rows = int(sys.argv[5]) if len(sys.argv) > 5 else 30
-    import torch
+    try:
+        import torch
+    except ImportError as error:
+        print(f"pytorch_step_profile.py: {error}: run it with Debian's /usr/bin/python3 after "
+              "tools/bench_setup.sh", file=sys.stderr)
+        return 1
     torch.set_num_threads(os.cpu_count() or 1)  # as pytorch_anchors.py
     encoder, _, train_step = resnet_training(torch, channels, mel_bins, frames)
     encoder.train()

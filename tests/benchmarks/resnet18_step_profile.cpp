@@ -10,9 +10,11 @@
 #include <torch/torch.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <map>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -63,35 +65,44 @@ std::map<std::pair<std::string, std::string>, Row> self_times(const profiler::th
   return rows;
 }
 
+// argv[index] as a whole number of at least `least`, or `fallback` when absent; nullopt when it does not read.
+std::optional<std::int64_t> argument(int argc, char** argv, int index, std::int64_t least, std::int64_t fallback) {
+  if (index >= argc) return fallback;
+  char* end = nullptr;
+  errno = 0;
+  const long long value = std::strtoll(argv[index], &end, 10);
+  if (errno != 0 || end == argv[index] || *end != '\0' || value < least) return std::nullopt;
+  return value;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
-    fmt::print(stderr, "usage: {} CHANNELS MEL_BINS FRAMES [STEPS] [ROWS]\n", argv[0]);
-    return 2;
-  }
-  const std::int64_t channels = std::atoll(argv[1]), mel_bins = std::atoll(argv[2]), frames = std::atoll(argv[3]);
-  const int steps = argc > 4 ? std::atoi(argv[4]) : 3, shown = argc > 5 ? std::atoi(argv[5]) : 30;
-  if (channels < 1 || mel_bins < 8 || frames < 8 || steps < 1) {
-    fmt::print(stderr, "resnet18_step_profile: expected CHANNELS >= 1, MEL_BINS and FRAMES >= 8, STEPS >= 1\n");
+  const auto channels = argument(argc, argv, 1, 1, 0), mel_bins = argument(argc, argv, 2, 8, 0),
+             frames = argument(argc, argv, 3, 8, 0), steps = argument(argc, argv, 4, 1, 3),
+             shown = argument(argc, argv, 5, 1, 30);
+  if (argc < 4 || argc > 6 || !channels || !mel_bins || !frames || !steps || !shown) {
+    fmt::print(stderr, "resnet18_step_profile: expected CHANNELS MEL_BINS FRAMES [STEPS] [ROWS], whole numbers: "
+                       "CHANNELS, STEPS and ROWS >= 1, MEL_BINS and FRAMES >= 8\n");
     return 2;
   }
   // As the benchmarks run (torch_benchmark_main.cpp): every core, freed memory kept for reuse.
   fscil::keep_freed_memory_for_reuse();
   torch::set_num_threads(static_cast<int>(std::max(1u, std::thread::hardware_concurrency())));
   torch::manual_seed(1);
-  fscil::EncoderStep work(channels, mel_bins, frames, kBatch);
+  fscil::EncoderStep work(*channels, *mel_bins, *frames, kBatch);
   work.train();
   work.train();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the step
 
   const auto unprofiled_start = std::chrono::steady_clock::now();
-  for (int step = 0; step < steps; ++step) work.train();
+  for (std::int64_t step = 0; step < *steps; ++step) work.train();
   const double unprofiled_ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - unprofiled_start).count() / steps;
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - unprofiled_start).count() /
+      static_cast<double>(*steps);
 
   profiler::enableProfilerLegacy(torch::profiler::impl::ProfilerConfig(torch::profiler::impl::ProfilerState::CPU,
                                                                        /*report_input_shapes=*/true));
-  for (int step = 0; step < steps; ++step) work.train();
+  for (std::int64_t step = 0; step < *steps; ++step) work.train();
   const auto rows = self_times(profiler::disableProfilerLegacy());
 
   std::vector<std::pair<std::pair<std::string, std::string>, Row>> sorted(rows.begin(), rows.end());
@@ -102,20 +113,22 @@ int main(int argc, char** argv) {
     total_us += row.self_us;
     per_operator[key.first] += row.self_us;
   }
-  fmt::print("training step {}x{}x{}, batch {}, {} threads: {:.1f} ms unprofiled, {:.1f} ms of operators profiled\n",
-             channels, mel_bins, frames, kBatch, torch::get_num_threads(), unprofiled_ms, total_us / 1000 / steps);
+  fmt::print("training step {}x{}x{}, batch {}, {} threads: {:.1f} ms unprofiled, {:.1f} ms of operators profiled "
+             "(the shares below are of these)\n",
+             *channels, *mel_bins, *frames, kBatch, torch::get_num_threads(), unprofiled_ms,
+             total_us / 1000 / static_cast<double>(*steps));
   fmt::print("\n{:>9} {:>6} {:>6}  {:<48} {}\n", "ms/step", "share", "calls", "operator", "first input");
-  for (int i = 0; i < std::min<int>(shown, static_cast<int>(sorted.size())); ++i) {
+  for (std::size_t i = 0; i < std::min<std::size_t>(*shown, sorted.size()); ++i) {
     const auto& [key, row] = sorted[i];
-    fmt::print("{:9.2f} {:5.1f}% {:6}  {:<48} {}\n", row.self_us / 1000 / steps, 100 * row.self_us / total_us,
-               row.calls / steps, key.first, key.second);
+    fmt::print("{:9.2f} {:5.1f}% {:6}  {:<48} {}\n", row.self_us / 1000 / static_cast<double>(*steps),
+               100 * row.self_us / total_us, row.calls / *steps, key.first, key.second);
   }
   std::vector<std::pair<std::string, double>> operators(per_operator.begin(), per_operator.end());
   std::sort(operators.begin(), operators.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   fmt::print("\n{:>9} {:>6}  {}\n", "ms/step", "share", "operator (all shapes)");
-  for (int i = 0; i < std::min<int>(shown, static_cast<int>(operators.size())); ++i) {
-    fmt::print("{:9.2f} {:5.1f}%  {}\n", operators[i].second / 1000 / steps, 100 * operators[i].second / total_us,
-               operators[i].first);
+  for (std::size_t i = 0; i < std::min<std::size_t>(*shown, operators.size()); ++i) {
+    fmt::print("{:9.2f} {:5.1f}%  {}\n", operators[i].second / 1000 / static_cast<double>(*steps),
+               100 * operators[i].second / total_us, operators[i].first);
   }
   return 0;
 }

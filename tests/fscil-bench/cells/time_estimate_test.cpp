@@ -105,11 +105,11 @@ TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   EXPECT_DOUBLE_EQ(prototype.inferred, 250 + 50);
   // Two masked views; assignment, 4 cached views and validation; 1 projector epoch of 2 batches;
   // sessions: 2 x 25 shots and validation, the 4 views of a memory of 50 + 25 s samples, and 10
-  // projector epochs over that memory in batches of 64, 7 head steps each.
+  // projector epochs over that memory in batches of 64; a projector step is 7 head steps.
   const Totals orco = totals("orco");
   EXPECT_DOUBLE_EQ(orco.trained, 1200);
   EXPECT_DOUBLE_EQ(orco.inferred, 200 + 800 + 50 + (50 + 50 + 4 * 75) + (50 + 50 + 4 * 100));
-  EXPECT_DOUBLE_EQ(orco.head_steps, 2 + 7 * (10 * 2 + 10 * 2));
+  EXPECT_DOUBLE_EQ(orco.head_steps, 7 * (2 + 10 * 2 + 10 * 2));
   // ARP: every batch of 128 carries 8 x 5 supports, at 3.8 times a sample's cost: 2 batches per epoch.
   EXPECT_DOUBLE_EQ(totals("arp").trained, 3 * (200 + 3.8 * 2 * 40));
   // PAN: (a) on 6 of the 10 classes' share, (c) on all; 4 episodes of 2 x 5 x 20.

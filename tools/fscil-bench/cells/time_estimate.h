@@ -14,7 +14,7 @@ class ParameterSet;
 
 // This machine's rates for the command (methods/common/step_rate.h): from `step_rates.json` in
 // its cache folder when that holds this CPU, kernels, threads, shape and batch; otherwise
-// measured now (a few seconds) and stored there, unless the process had less than 90% of its
+// measured now (seconds; some 20 on the audio shapes) and stored there, unless the process had less than 90% of its
 // threads' CPU time meanwhile (other work, or a host taking the VM's time: used for this plan,
 // not kept), under --no-cache, or where the folder cannot be written. An entry that does not
 // read is measured over.
@@ -36,8 +36,8 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
 // (from the cache, or built and cached). `one_after_another`: cells run in plan order in one
 // place, so a later cell continues from a shared stage an earlier one trained (a whole command;
 // cells run apart share it through the stage cache); otherwise (Slurm tasks at once), under a
-// --selection other than last (no stage is shared then) or --no-stage-cache, every cell trains
-// its own.
+// --selection other than last (no stage is shared then), --no-stage-cache or --no-cache, every
+// cell trains its own.
 void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
                     bool one_after_another = true);
 
