@@ -122,8 +122,7 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
 
 void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
                     bool one_after_another) {
-  one_after_another =
-      one_after_another && options.selection == "last" && !options.no_stage_cache && !options.no_cache;
+  one_after_another = one_after_another && options.selection == "last" && uses_stage_cache(options);
   std::map<std::string, std::set<std::string>> trained_stages;  // per grid cell and seed
   std::map<std::map<std::string, std::string>, std::pair<CommandSizes, StepRate>> of_grid_cell;
   for (BenchCell& cell : cells) {

@@ -14,10 +14,10 @@ class ParameterSet;
 
 // This machine's rates for the command (methods/common/step_rate.h): from `step_rates.json` in
 // its cache folder when that holds this CPU, kernels, threads, shape and batch; otherwise
-// measured now (seconds; some 20 on the audio shapes) and stored there, unless the process had less than 90% of its
-// threads' CPU time meanwhile (other work, or a host taking the VM's time: used for this plan,
-// not kept), under --no-cache, or where the folder cannot be written. An entry that does not
-// read is measured over.
+// measured now (seconds; some 20 on the audio shapes) and stored there, unless the process had
+// less than 90% of its threads' CPU time meanwhile (other work, or a host taking the VM's time:
+// used for this plan, not kept), under --no-cache, or where the folder cannot be written. An
+// entry that does not read is measured over.
 StepRate machine_rates(const CommandSizes& sizes);
 // The entry of `step_rates.json` that holds them; its leading version changes whenever what
 // measure_step_rate() times changes.

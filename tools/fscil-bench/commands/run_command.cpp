@@ -354,7 +354,7 @@ struct CommandRuns {
 CommandRuns start_runs(const RunOptions& options, const CommandPlan& plan) {
   CommandRuns runs{describe_machine(), source_commit(), {}, StageCache(cache_folder(options) / "stages"), {}, {}, {}, {}, SharedStages()};
   // The executable is read only when the stage cache is in use.
-  if (!options.no_cache && !options.no_stage_cache) runs.code = code_digest(runs.machine);
+  if (uses_stage_cache(options)) runs.code = code_digest(runs.machine);
   if (runs.stage_caching()) runs.shared_stages = SharedStages(runs.stage_cache);
   runs.run_values = plan.dataset_params.used();
   runs.run_values["front_end"] = plan.dataset.description.front_end.describe();
@@ -643,6 +643,8 @@ void refuse_out_folder_of_others(const RunOptions& options) {
                                     "tables: write to another --out", options.out));
   }
 }
+
+bool uses_stage_cache(const RunOptions& options) { return !options.no_cache && !options.no_stage_cache; }
 
 CommandSizes command_sizes(const RunOptions& options) {
   ProgressReporter quiet = ProgressReporter::quiet();

@@ -65,6 +65,10 @@ struct CommandSizes {
 };
 CommandSizes command_sizes(const RunOptions& options);
 
+// Whether the command keeps and takes trained stages through the stage cache
+// (protocols/stage_cache.h): a base session, or a stage methods share, trained before.
+bool uses_stage_cache(const RunOptions& options);
+
 // Sets LibTorch's intra-op threads (Debian's build starts with 1); returns the count used.
 int configure_threads(int requested);
 
