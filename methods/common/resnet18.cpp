@@ -42,10 +42,26 @@ torch::Tensor convolve_in_training(nn::Conv2d& conv, const torch::Tensor& x) {
 }
 
 // The stem, its norm and the max pool run on channels-last maps (oneDNN's stem kernels and ATen's
-// pooling are faster there: docs/architecture.md, "The training step"); the stages get contiguous
+// pooling are faster there: docs/profiling.md, "The training step"); the stages get contiguous
 // maps back.
 torch::Tensor channels_last(const torch::Tensor& map) { return map.contiguous(at::MemoryFormat::ChannelsLast); }
-torch::Tensor pool_stem_map(const torch::Tensor& map) { return torch::max_pool2d(map, 3, 2, 1).contiguous(); }
+
+// The pooled map made contiguous for the stages, whose gradient goes back channels-last. With the
+// contiguous gradient that .contiguous() hands back, ATen's max-pool backward would copy the whole
+// channels-last stem map to a contiguous one and its gradient back (two 67 MB copies a step on
+// NS-100's shape: docs/profiling.md); the pooled map's gradient is 4 times smaller.
+class ContiguousWithChannelsLastGradient : public torch::autograd::Function<ContiguousWithChannelsLastGradient> {
+ public:
+  static torch::Tensor forward(torch::autograd::AutogradContext*, const torch::Tensor& map) { return map.contiguous(); }
+  static torch::autograd::variable_list backward(torch::autograd::AutogradContext*,
+                                                 torch::autograd::variable_list gradients) {
+    return {channels_last(gradients[0])};
+  }
+};
+
+torch::Tensor pool_stem_map(const torch::Tensor& map) {
+  return ContiguousWithChannelsLastGradient::apply(torch::max_pool2d(map, 3, 2, 1));
+}
 
 // conv then norm at inference, as one convolution: the norm's scale folds into the weights and its
 // shift becomes the bias.
