@@ -28,7 +28,7 @@ namespace fscil {
 namespace {
 
 TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
-  const CommandResult ablation = run_cli("plan --methods ablation --dataset simtex-mini --profile smoke --seeds 1-2");
+  const CommandResult ablation = run_cli("plan --methods ablation --dataset simtex-mini --profile smoke --seeds 1-2 --no-estimate");
   ASSERT_EQ(ablation.exit_code, 0) << ablation.output;
   // pits-sc, then the two pairs of cop-fscil variants that share a base, each for two seeds.
   EXPECT_NE(ablation.output.find("6 cells"), std::string::npos) << ablation.output;
@@ -129,7 +129,7 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   EXPECT_NE(read_text(folder.path() / "runs" / "slurm" / "array.sbatch").find("#SBATCH --array=1-2%3\n"), std::string::npos);
 
   // plan --missing-only, the merge job's check: the same two cells, and a failure while there are any.
-  const std::string plan = "plan --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --out " + out;
+  const std::string plan = "plan --methods prototype,cop-fscil --dataset simtex-mini --profile smoke --seeds 1-2 --no-estimate --out " + out;
   const CommandResult still_missing = run_cli(plan + " --missing-only");
   EXPECT_EQ(still_missing.exit_code, 1) << still_missing.output;
   EXPECT_NE(still_missing.output.find("2 cells"), std::string::npos) << still_missing.output;
@@ -163,7 +163,8 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   const CommandResult spaced = run_cli("slurm --methods prototype --dataset simtex-mini --profile smoke --out '" +
                                        (refused.path() / "o 3").string() + "'");
   expect_one_error_line(spaced, "an #SBATCH --output line cannot hold this path");
-  for (const char* good : {"--partition gpu,cpu_long", "--time 1-12:00:00", "--time 90", "--mem 512M"}) {
+  // (A --time beside --partition and --mem spares each a calibration of the step for its suggestion.)
+  for (const char* good : {"--partition gpu,cpu_long --time 1:00:00", "--time 1-12:00:00", "--time 90", "--mem 512M --time 1:00:00"}) {
     EXPECT_EQ(run_cli(elsewhere + " " + good).exit_code, 0) << good;
   }
   expect_one_error_line(run_cli(plan + " --cell 1"), "--cell: expected a run or sweep command");

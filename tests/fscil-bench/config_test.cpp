@@ -31,10 +31,10 @@ TEST(Cli, ConfigFileSetsRunOptionsAndTheCommandLineOverridesIt) {
   const auto config = folder.path() / "ablation.json";
   std::ofstream(config) << R"({"methods": "ablation", "dataset": "simtex-mini", "profile": "smoke", "seeds": "1-2",
                              "grid": {"shot": [1, 5]}})";
-  const CommandResult planned = run_cli("plan --config " + config.string());
+  const CommandResult planned = run_cli("plan --config " + config.string() + " --no-estimate");
   ASSERT_EQ(planned.exit_code, 0) << planned.output;
   EXPECT_NE(planned.output.find("12 cells"), std::string::npos) << planned.output;  // 3 groups x 2 seeds x 2 shots
-  const CommandResult overridden = run_cli("plan --config " + config.string() + " --seeds 7");
+  const CommandResult overridden = run_cli("plan --config " + config.string() + " --seeds 7 --no-estimate");
   ASSERT_EQ(overridden.exit_code, 0) << overridden.output;
   EXPECT_NE(overridden.output.find("6 cells"), std::string::npos) << overridden.output;
   EXPECT_NE(overridden.output.find("shot=5                        7"), std::string::npos) << overridden.output;
