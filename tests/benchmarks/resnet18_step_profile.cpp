@@ -10,15 +10,14 @@
 #include <torch/torch.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
-#include <cstdlib>
 #include <map>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "core/number_text.h"
 #include "methods/common/encoder_step.h"
 #include "metrics/resource_usage.h"
 
@@ -68,10 +67,8 @@ std::map<std::pair<std::string, std::string>, Row> self_times(const profiler::th
 // argv[index] as a whole number of at least `least`, or `fallback` when absent; nullopt when it does not read.
 std::optional<std::int64_t> argument(int argc, char** argv, int index, std::int64_t least, std::int64_t fallback) {
   if (index >= argc) return fallback;
-  char* end = nullptr;
-  errno = 0;
-  const long long value = std::strtoll(argv[index], &end, 10);
-  if (errno != 0 || end == argv[index] || *end != '\0' || value < least) return std::nullopt;
+  const auto value = fscil::parse_number<std::int64_t>(argv[index]);
+  if (!value || *value < least) return std::nullopt;
   return value;
 }
 
