@@ -285,7 +285,7 @@ MethodEntry pits_sc_entry() {
   };
   // Its pseudo-incremental stage and its sessions shortened as the pretraining is.
   entry.profile_defaults = pretraining_profiles(
-      {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "4"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});
+      {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "2"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});
   entry.sessions_keep_embedding = true;  // sessions fine-tune the classifier only
   entry.session_only_parameters = {"epochs_new", "lr_new", "lamda_proto"};
   entry.shared_stages[PitsScMethod::kPretrainingStage] = {"pit_epochs", "pit_lr",   "pit_episodes", "pit_way",

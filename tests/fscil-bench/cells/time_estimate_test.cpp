@@ -84,10 +84,10 @@ Totals totals(const std::string& method) {
 }
 
 TEST(MethodWork, PitsScAndItsCopVariantsCountTheirStagesAsTheyTrainThem) {
-  // 3 pretraining epochs of 200; 1 x 4 episodes of 6 kept and 2 mixed classes x (5 + 15); rows
+  // 3 pretraining epochs of 200; 1 x 2 episodes of 6 kept and 2 mixed classes x (5 + 15); rows
   // and validation after both stages; 2 sessions of 25 shots, 20 classifier steps each.
   const Totals pits = totals("pits-sc");
-  EXPECT_DOUBLE_EQ(pits.trained, 600 + 640);
+  EXPECT_DOUBLE_EQ(pits.trained, 600 + 320);
   EXPECT_DOUBLE_EQ(pits.inferred, 2 * 250 + 50);
   EXPECT_DOUBLE_EQ(pits.head_steps, 40);
   const auto stages = method_entry("cop-fscil/cpi").work(smoke("cop-fscil/cpi"), three_sessions());
@@ -95,8 +95,8 @@ TEST(MethodWork, PitsScAndItsCopVariantsCountTheirStagesAsTheyTrainThem) {
   // PCQA's L_PIC embeds 2 probed copies of every trained sample; PSPC 10 probe views of every shot.
   const Totals cop = totals("cop-fscil");
   EXPECT_EQ(method_entry("cop-fscil").work(smoke("cop-fscil"), three_sessions()).front().stage, "pretraining");
-  EXPECT_DOUBLE_EQ(cop.trained, 600 + 640);
-  EXPECT_DOUBLE_EQ(cop.inferred, 2 * (600 + 640) + 2 * 250 + 50 * 11);
+  EXPECT_DOUBLE_EQ(cop.trained, 600 + 320);
+  EXPECT_DOUBLE_EQ(cop.inferred, 2 * (600 + 320) + 2 * 250 + 50 * 11);
 }
 
 TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
