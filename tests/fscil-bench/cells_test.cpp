@@ -19,7 +19,6 @@
 #include <vector>
 
 #include "datasets/hdf5_file.h"
-#include "fscil_build_info.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 #include "tests/fscil-bench/cli_support.h"

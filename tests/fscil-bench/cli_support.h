@@ -14,6 +14,12 @@
 
 namespace fscil {
 
+// This build's program, source tree, version and commit (build_facts.cpp).
+std::string built_program();
+std::filesystem::path source_folder();
+std::string built_version();
+std::string built_commit();
+
 struct CommandResult {
   int exit_code;
   std::string output;  // stdout and stderr together
@@ -23,7 +29,7 @@ struct CommandResult {
 // e.g. an older commit's, to count which cases it fails).
 inline std::string program_under_test() {
   const char* other = std::getenv("FSCIL_BENCH_UNDER_TEST");
-  if (other == nullptr || *other == '\0') return FSCIL_BENCH_EXECUTABLE;
+  if (other == nullptr || *other == '\0') return built_program();
   static const bool said = std::fprintf(stderr, "testing FSCIL_BENCH_UNDER_TEST=%s\n", other) > 0;
   (void)said;
   return other;

@@ -140,7 +140,7 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
     const fs::path path = root.path() / file.substr(0, equals);
     fs::create_directories(path.parent_path());
     if (equals != std::string::npos && file.compare(equals, 2, "=@") == 0) {
-      fs::copy_file(fs::path(FSCIL_SOURCE_DIR) / file.substr(equals + 2), path);
+      fs::copy_file(source_folder() / file.substr(equals + 2), path);
     } else if (equals != std::string::npos) {
       std::ofstream(path) << file.substr(equals + 1);
     } else if (file.back() != '/') {

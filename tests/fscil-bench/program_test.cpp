@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "datasets/hdf5_file.h"
-#include "fscil_build_info.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 #include "tests/fscil-bench/cli_support.h"
@@ -37,7 +36,7 @@ TEST(Cli, ListsMethodsDatasetsAndProfiles) {
 TEST(Cli, VersionNamesTheReleaseTheCommitAndTheLibraries) {
   const CommandResult version = run_cli("--version");
   EXPECT_EQ(version.exit_code, 0) << version.output;
-  EXPECT_EQ(version.output.rfind(fmt::format("fscil-bench {} (commit {})\n", FSCIL_VERSION, FSCIL_SOURCE_COMMIT), 0), 0u)
+  EXPECT_EQ(version.output.rfind(fmt::format("fscil-bench {} (commit {})\n", built_version(), built_commit()), 0), 0u)
       << version.output;
   for (const char* library : {"  libtorch   1.", "  fftw       fftw-3.", "  hdf5       1.", "  libsndfile libsndfile-1.",
                               "  openblas   ", "  compiler   "}) {
@@ -106,7 +105,7 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
 
 TEST(Cli, OutputThatCannotBeWrittenIsAFailure) {
   // Tables to a full disk: stdout goes to /dev/full, stderr still to the pipe.
-  const std::string command = std::string(FSCIL_BENCH_EXECUTABLE) + " list 2>&1 >/dev/full";
+  const std::string command = built_program() + " list 2>&1 >/dev/full";
   FILE* pipe = popen(command.c_str(), "r");
   std::array<char, 512> line{};
   const std::string said = fgets(line.data(), line.size(), pipe) != nullptr ? line.data() : "";

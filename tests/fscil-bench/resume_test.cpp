@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "datasets/hdf5_file.h"
-#include "fscil_build_info.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 #include "tests/fscil-bench/cli_support.h"
@@ -35,7 +34,7 @@ class KilledRun : public ::testing::Test {
 
   void SetUp() override {
     const std::string pid_file = (out.path() / "pid").string();
-    ASSERT_EQ(std::system((std::string(FSCIL_BENCH_EXECUTABLE) + kOptions + " --out " + out.path().string() +
+    ASSERT_EQ(std::system((built_program() + kOptions + " --out " + out.path().string() +
                            " > /dev/null 2>&1 & echo $! > " + pid_file).c_str()), 0);
     const auto started = std::chrono::steady_clock::now();
     while (!std::filesystem::exists(checkpoint()) && std::chrono::steady_clock::now() - started < std::chrono::minutes(5)) {
@@ -117,7 +116,7 @@ TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
   const std::string script = fmt::format(
       "{} {} --out {} 2> {}/stderr & pid=$!; for i in $(seq 6000); do [ -f {} ] && break; kill -0 $pid || break; "
       "sleep 0.02; done; kill -TERM $pid; wait $pid",
-      FSCIL_BENCH_EXECUTABLE, options, stopped.string(), folder.path().string(), checkpoint.string());
+      built_program(), options, stopped.string(), folder.path().string(), checkpoint.string());
   const int status = std::system(("bash -c '" + script + "'").c_str());
   ASSERT_TRUE(WIFEXITED(status));
   ASSERT_EQ(WEXITSTATUS(status), 143) << read_text(folder.path() / "stderr");

@@ -18,7 +18,6 @@
 #include <vector>
 
 #include "datasets/hdf5_file.h"
-#include "fscil_build_info.h"
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 #include "tests/fscil-bench/cli_support.h"
@@ -37,8 +36,8 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
   std::ifstream result(out.path() / "results" / "prototype__simtex-mini__seed1.json");
   const std::string record(std::istreambuf_iterator<char>(result), {});
-  EXPECT_NE(record.find(fmt::format("\"git_commit\": \"{}\"", FSCIL_SOURCE_COMMIT)), std::string::npos) << record;
-  EXPECT_NE(record.find(fmt::format("\"version\": \"{}\"", FSCIL_VERSION)), std::string::npos) << record;
+  EXPECT_NE(record.find(fmt::format("\"git_commit\": \"{}\"", built_commit())), std::string::npos) << record;
+  EXPECT_NE(record.find(fmt::format("\"version\": \"{}\"", built_version())), std::string::npos) << record;
   EXPECT_NE(record.find("\"libtorch\": \"1."), std::string::npos) << record;
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed2.json"));
   std::ifstream csv(out.path() / "summary.csv");
