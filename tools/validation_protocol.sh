@@ -25,6 +25,8 @@ older_pretraining="cutmix_alpha=1 cutmix_space=raw"
 first_view="cpi_global_bias=0.5 cpi_channel_bias=0.3 cpi_tilt=0.5 cpi_noise=0.1"
 half_view="cpi_global_bias=0.25 cpi_channel_bias=0.15 cpi_tilt=0.25 cpi_noise=0.05"
 before="$older_pretraining cpi_kept=query $first_view"
+# PSPC's readings before its two options became the defaults (issue 39).
+pspc_before="pspc_instability=raw pspc_mean=views"
 cop_fscil_configs=(
   "pits-sc-older-pretraining|pits-sc|$older_pretraining"
   "cpi-legacy|cop-fscil/cpi|$before cpi_space=raw cpi_distance=raw cpi_references=same"
@@ -43,12 +45,12 @@ cop_fscil_configs=(
   # The full method's readings, with today's pretraining; pits-sc and CPI alone again beside them.
   "pits-sc-today|pits-sc|"
   "cpi-defaults|cop-fscil/cpi|"
-  "full|cop-fscil|"
-  "full-dsen-m|cop-fscil|pcqa_sensitive_dim=8"
-  "full-pic-normalised|cop-fscil|pic_space=normalised"
-  "full-pspc-normalised|cop-fscil|pspc_instability=normalised"
-  "full-pspc-original|cop-fscil|pspc_mean=original"
-  "full-pretrain-cpi|cop-fscil|cpi_pretrain_coverage=0.5"
+  "full|cop-fscil|$pspc_before"
+  "full-dsen-m|cop-fscil|$pspc_before pcqa_sensitive_dim=8"
+  "full-pic-normalised|cop-fscil|$pspc_before pic_space=normalised"
+  "full-pspc-normalised|cop-fscil|pspc_instability=normalised pspc_mean=views"
+  "full-pspc-original|cop-fscil|pspc_instability=raw pspc_mean=original"
+  "full-pretrain-cpi|cop-fscil|$pspc_before cpi_pretrain_coverage=0.5"
 )
 orco_legacy="orco_base_ce_weight=0 orco_session_orthogonality=all orco_session_warmup=0 orco_session_stop=last orco_exemplars_from=first"
 orco_configs=(

@@ -60,8 +60,8 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
   s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
   s.pspc_q_from_original = params.choice("pspc_q", "original", {"original", "own"}) == "original";
-  s.pspc_instability_normalised = params.choice("pspc_instability", "raw", {"normalised", "raw"}) == "normalised";
-  s.pspc_mean_of_views = params.choice("pspc_mean", "views", {"views", "original"}) == "views";
+  s.pspc_instability_normalised = params.choice("pspc_instability", "normalised", {"normalised", "raw"}) == "normalised";
+  s.pspc_mean_of_views = params.choice("pspc_mean", "original", {"views", "original"}) == "views";
 
   return s;
 }

@@ -48,8 +48,9 @@ struct CopFscilSettings {
   int pspc_probes = 0;     // N_ps; 0 = by input size: 100 for HapTex-shaped, 10 for LMT108-shaped (paper)
   double pspc_beta = 8.0;  // paper
   bool pspc_q_from_original = true;       // pspc_q=original|own: probes mapped with Q_i from z_i^(0) (paper)
-  bool pspc_instability_normalised = false;  // pspc_instability=normalised|raw: U_i on unit-length z_hat
-  bool pspc_mean_of_views = true;         // pspc_mean=views|original: zbar_i over the views, or z_hat_i^(0)
+  // Both (ours), chosen on validation across simtex and sf-instruments (docs/methods.md, PSPC).
+  bool pspc_instability_normalised = true;  // pspc_instability=normalised|raw: U_i on unit-length z_hat
+  bool pspc_mean_of_views = false;          // pspc_mean=views|original: zbar_i over the views, or z_hat_i^(0)
 
   static CopFscilSettings from(const ParameterSet& params);
   // d_sen as this embedding size gives it.

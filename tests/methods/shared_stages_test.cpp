@@ -181,8 +181,8 @@ INSTANTIATE_TEST_SUITE_P(
                    {"cpi_query_coverage", "0.7"}, {"cpi_kept", "split"}, {"cpi_bn_statistics", "guarded"},
                    {"pcqa_reflections", "3"}, {"pcqa_invariant_fraction", "0.5"}, {"pcqa_sensitive_dim", "3"},
                    {"pic_weight", "0.5"}, {"pic_probes", "3"}, {"pic_space", "normalised"}, {"pspc_probes", "3"},
-                   {"pspc_beta", "2.5"}, {"pspc_q", "own"}, {"pspc_instability", "normalised"},
-                   {"pspc_mean", "original"}}),
+                   {"pspc_beta", "2.5"}, {"pspc_q", "own"}, {"pspc_instability", "raw"},
+                   {"pspc_mean", "views"}}),
              {"cpi_space", "cpi_bank", "cpi_pretrain_coverage"}}),
     [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
 
