@@ -23,6 +23,13 @@ EpisodeStatistics episode_statistics_of(const std::string& text) {
   return EpisodeStatistics::update;
 }
 
+// A setting with two named values whose default is the one the settings struct starts with, so
+// every default is written once, in the header.
+bool one_of_two(const ParameterSet& params, const std::string& key, bool current, const std::string& when_true,
+                const std::string& when_false) {
+  return params.choice(key, current ? when_true : when_false, {when_true, when_false}) == when_true;
+}
+
 }  // namespace
 
 CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
@@ -39,8 +46,8 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   cpi.reference = params.choice("cpi_reference", "farthest", {"farthest", "random"}) == "random"
                       ? ReferenceChoice::random
                       : ReferenceChoice::farthest;
-  cpi.standardised_distance = params.choice("cpi_distance", "standardised", {"standardised", "raw"}) == "standardised";
-  cpi.ranked_references = params.choice("cpi_references", "ranked", {"ranked", "same"}) == "ranked";
+  cpi.standardised_distance = one_of_two(params, "cpi_distance", cpi.standardised_distance, "standardised", "raw");
+  cpi.ranked_references = one_of_two(params, "cpi_references", cpi.ranked_references, "ranked", "same");
   cpi.mix_alpha = params.real("cpi_mix_alpha", cpi.mix_alpha, ValidRange::above(0));
   cpi.bank_capacity = params.integer("cpi_bank", cpi.bank_capacity, ValidRange::at_least(1));
   s.support_coverage = params.real("cpi_support_coverage", s.support_coverage, ValidRange::between(0, 1));
@@ -55,13 +62,13 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim, ValidRange::at_least(0));
   s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
   s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
-  s.pic_normalised = params.choice("pic_space", "raw", {"normalised", "raw"}) == "normalised";
+  s.pic_normalised = one_of_two(params, "pic_space", s.pic_normalised, "normalised", "raw");
 
   s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
   s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
-  s.pspc_q_from_original = params.choice("pspc_q", "original", {"original", "own"}) == "original";
-  s.pspc_instability_normalised = params.choice("pspc_instability", "normalised", {"normalised", "raw"}) == "normalised";
-  s.pspc_mean_of_views = params.choice("pspc_mean", "original", {"views", "original"}) == "views";
+  s.pspc_q_from_original = one_of_two(params, "pspc_q", s.pspc_q_from_original, "original", "own");
+  s.pspc_instability_normalised = one_of_two(params, "pspc_instability", s.pspc_instability_normalised, "normalised", "raw");
+  s.pspc_mean_of_views = one_of_two(params, "pspc_mean", s.pspc_mean_of_views, "views", "original");
 
   return s;
 }
