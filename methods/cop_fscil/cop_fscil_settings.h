@@ -34,7 +34,7 @@ struct CopFscilSettings {
                                    // cpi_mix_alpha, cpi_bank
   double support_coverage = 0.6;   // share of an episode's support samples CPI perturbs (paper's best)
   double query_coverage = 1.0;     // share of its query samples (paper's best)
-  KeptCoverage kept = KeptCoverage::query;
+  KeptCoverage kept = KeptCoverage::clean;
   EpisodeStatistics episode_statistics = EpisodeStatistics::update;
   double pretrain_coverage = 0.0;  // cpi_pretrain_coverage: share of each pretraining batch CPI perturbs
 

@@ -1,4 +1,4 @@
-// CoP-FSCIL as a method: its variants, the episode coverage of CPI, PSPC's session update and
+// CoP-FSCIL as a method: its named settings, its variants, the episode coverage of CPI, PSPC's session update and
 // its loss, seeded repeatability and base sharing between variants, on the tiny 10-class protocol (6 base, 2-way 5-shot).
 #include <gtest/gtest.h>
 
@@ -8,6 +8,7 @@
 #include "methods/common/embedding.h"
 #include "methods/common/running_statistics_guard.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
+#include "methods/cop_fscil/cop_fscil_settings.h"
 #include "methods/cop_fscil/stability_calibration.h"
 #include "methods/method_registry.h"
 #include "methods/pits_sc/pseudo_incremental.h"
@@ -72,6 +73,41 @@ TEST(CopFscilVariants, AblationRunsPitsScPlusTheFourAndAllIncludesThem) {
     auto method = create_method(name, params);
     EXPECT_EQ(as_cop(*method).components().pcqa, components.pcqa) << name;
     EXPECT_EQ(as_cop(*method).components().pspc, components.pspc) << name;
+  }
+}
+
+// A named setting's default is the settings struct's own value (written once, in the header),
+// every name reads as its value, and a name outside the list is one error naming the key.
+TEST(CopFscilSettings, NamedSettingsDefaultToTheStructAndReadEveryName) {
+  const ParameterSet defaults;
+  const CopFscilSettings read = CopFscilSettings::from(defaults);
+  EXPECT_EQ(defaults.used().at("cpi_kept"), "clean");
+  EXPECT_EQ(read.kept, KeptCoverage::clean);
+  EXPECT_EQ(defaults.used().at("cpi_bn_statistics"), "update");
+  EXPECT_EQ(defaults.used().at("cpi_space"), "standardised");
+  EXPECT_EQ(defaults.used().at("pspc_instability"), "normalised");
+  EXPECT_EQ(defaults.used().at("pspc_mean"), "original");
+
+  ParameterSet params;
+  params.set("cpi_kept", "split");
+  params.set("cpi_bn_statistics", "reestimate");
+  params.set("cpi_reference", "random");
+  params.set("cpi_space", "raw");
+  params.set("pspc_mean", "views");
+  const CopFscilSettings set = CopFscilSettings::from(params);
+  EXPECT_EQ(set.kept, KeptCoverage::split);
+  EXPECT_EQ(set.episode_statistics, EpisodeStatistics::reestimate);
+  EXPECT_EQ(set.cpi.reference, ReferenceChoice::random);
+  EXPECT_EQ(set.cpi.space, ProbeSpace::raw);
+  EXPECT_TRUE(set.pspc_mean_of_views);
+
+  ParameterSet bad;
+  bad.set("cpi_kept", "queries");
+  try {
+    CopFscilSettings::from(bad);
+    FAIL() << "cpi_kept=queries was accepted";
+  } catch (const ProtocolError& error) {
+    EXPECT_STREQ(error.what(), "parameter cpi_kept='queries': expected one of query, clean, split");
   }
 }
 
