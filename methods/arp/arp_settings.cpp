@@ -1,5 +1,6 @@
 #include "methods/arp/arp_settings.h"
 
+#include "core/named_choice.h"
 #include "core/parameter_set.h"
 
 namespace fscil {
@@ -12,7 +13,8 @@ ArpSettings ArpSettings::from(const ParameterSet& params) {
   s.tasks = static_cast<int>(params.integer("arp_tasks", s.tasks, ValidRange::at_least(1)));
   s.relation_width = static_cast<int>(params.integer("arp_relation_width", s.relation_width, ValidRange::at_least(1)));
   s.early_stop_tol = static_cast<int>(params.integer("arp_early_stop_tol", s.early_stop_tol, ValidRange::at_least(0)));
-  s.refined_test_rows = params.choice("arp_test_rows", "plain", {"plain", "refined"}) == "refined";
+  s.refined_test_rows =
+      named_choice(params, "arp_test_rows", s.refined_test_rows, {{"plain", false}, {"refined", true}});
   return s;
 }
 

@@ -3,61 +3,37 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <utility>
-#include <vector>
 
 #include "methods/method.h"
+#include "core/named_choice.h"
 #include "core/parameter_set.h"
 
 namespace fscil {
 
-namespace {
-
-// A setting with named values whose default is the value the settings struct starts with, so
-// every default is written once, in the header. `names` lists the values in the order an error
-// message offers them.
-template <typename Value>
-Value one_of(const ParameterSet& params, const std::string& key, Value current,
-             const std::vector<std::pair<std::string, Value>>& names) {
-  std::vector<std::string> allowed;
-  std::string fallback;
-  for (const auto& [name, value] : names) {
-    allowed.push_back(name);
-    if (value == current) fallback = name;
-  }
-  const std::string chosen = params.choice(key, fallback, allowed);
-  for (const auto& [name, value] : names) {
-    if (name == chosen) return value;
-  }
-  return current;
-}
-
-}  // namespace
-
 CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   CopFscilSettings s;
   ContextProbeSettings& cpi = s.cpi;
-  cpi.space =
-      one_of(params, "cpi_space", cpi.space, {{"standardised", ProbeSpace::standardised}, {"raw", ProbeSpace::raw}});
+  cpi.space = named_choice(params, "cpi_space", cpi.space,
+                           {{"standardised", ProbeSpace::standardised}, {"raw", ProbeSpace::raw}});
   ViewRanges& view = cpi.view;
   view.global_bias = params.real("cpi_global_bias", view.global_bias, ValidRange::at_least(0));
   view.channel_bias = params.real("cpi_channel_bias", view.channel_bias, ValidRange::at_least(0));
   view.tilt = params.real("cpi_tilt", view.tilt, ValidRange::at_least(0));
   view.noise = params.real("cpi_noise", view.noise, ValidRange::at_least(0));
   view.max_shift_fraction = params.real("cpi_max_shift", view.max_shift_fraction, ValidRange::from_up_to(0, 1));
-  cpi.reference = one_of(params, "cpi_reference", cpi.reference,
+  cpi.reference = named_choice(params, "cpi_reference", cpi.reference,
                          {{"farthest", ReferenceChoice::farthest}, {"random", ReferenceChoice::random}});
   cpi.standardised_distance =
-      one_of(params, "cpi_distance", cpi.standardised_distance, {{"standardised", true}, {"raw", false}});
+      named_choice(params, "cpi_distance", cpi.standardised_distance, {{"standardised", true}, {"raw", false}});
   cpi.ranked_references =
-      one_of(params, "cpi_references", cpi.ranked_references, {{"ranked", true}, {"same", false}});
+      named_choice(params, "cpi_references", cpi.ranked_references, {{"ranked", true}, {"same", false}});
   cpi.mix_alpha = params.real("cpi_mix_alpha", cpi.mix_alpha, ValidRange::above(0));
   cpi.bank_capacity = params.integer("cpi_bank", cpi.bank_capacity, ValidRange::at_least(1));
   s.support_coverage = params.real("cpi_support_coverage", s.support_coverage, ValidRange::between(0, 1));
   s.query_coverage = params.real("cpi_query_coverage", s.query_coverage, ValidRange::between(0, 1));
-  s.kept = one_of(params, "cpi_kept", s.kept,
+  s.kept = named_choice(params, "cpi_kept", s.kept,
                   {{"query", KeptCoverage::query}, {"clean", KeptCoverage::clean}, {"split", KeptCoverage::split}});
-  s.episode_statistics = one_of(params, "cpi_bn_statistics", s.episode_statistics,
+  s.episode_statistics = named_choice(params, "cpi_bn_statistics", s.episode_statistics,
                                 {{"update", EpisodeStatistics::update},
                                  {"guarded", EpisodeStatistics::guarded},
                                  {"reestimate", EpisodeStatistics::reestimate}});
@@ -68,15 +44,15 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim, ValidRange::at_least(0));
   s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
   s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
-  s.pic_normalised = one_of(params, "pic_space", s.pic_normalised, {{"normalised", true}, {"raw", false}});
+  s.pic_normalised = named_choice(params, "pic_space", s.pic_normalised, {{"normalised", true}, {"raw", false}});
 
   s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
   s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
-  s.pspc_q_from_original = one_of(params, "pspc_q", s.pspc_q_from_original, {{"original", true}, {"own", false}});
+  s.pspc_q_from_original = named_choice(params, "pspc_q", s.pspc_q_from_original, {{"original", true}, {"own", false}});
   s.pspc_instability_normalised =
-      one_of(params, "pspc_instability", s.pspc_instability_normalised, {{"normalised", true}, {"raw", false}});
+      named_choice(params, "pspc_instability", s.pspc_instability_normalised, {{"normalised", true}, {"raw", false}});
   s.pspc_mean_of_views =
-      one_of(params, "pspc_mean", s.pspc_mean_of_views, {{"views", true}, {"original", false}});
+      named_choice(params, "pspc_mean", s.pspc_mean_of_views, {{"views", true}, {"original", false}});
 
   return s;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/named_choice.h"
 #include "core/parameter_set.h"
 
 namespace fscil {
@@ -37,21 +38,21 @@ OrcoSettings OrcoSettings::from(const ParameterSet& params) {
   s.session.warmup_epochs =
       static_cast<int>(params.integer("orco_session_warmup", s.session.warmup_epochs, ValidRange::at_least(0)));
   s.session_stop.on_validation =
-      params.choice("orco_session_stop", "validation", {"validation", "last"}) == "validation";
+      named_choice(params, "orco_session_stop", s.session_stop.on_validation, {{"validation", true}, {"last", false}});
   s.session_stop.check_every =
       static_cast<int>(params.integer("orco_session_check", s.session_stop.check_every, ValidRange::at_least(1)));
   s.session_stop.patience =
       static_cast<int>(params.integer("orco_session_patience", s.session_stop.patience, ValidRange::at_least(1)));
   s.novel_ce_weight = params.real("orco_novel_ce_weight", s.novel_ce_weight, ValidRange::at_least(0));
   s.base_ce_weight = params.real("orco_base_ce_weight", s.base_ce_weight, ValidRange::at_least(0));
-  s.session_orthogonality_novel_only =
-      params.choice("orco_session_orthogonality", "novel", {"novel", "all"}) == "novel";
+  s.session_orthogonality_novel_only = named_choice(params, "orco_session_orthogonality",
+                                                    s.session_orthogonality_novel_only,
+                                                    {{"novel", true}, {"all", false}});
 
   s.exemplars_per_base_class =
       static_cast<int>(params.integer("orco_exemplars", s.exemplars_per_base_class, ValidRange::at_least(0)));
-  s.exemplar_source = params.choice("orco_exemplars_from", "recordings", {"recordings", "first"}) == "first"
-                          ? ExemplarSource::first
-                          : ExemplarSource::recordings;
+  s.exemplar_source = named_choice(params, "orco_exemplars_from", s.exemplar_source,
+                                   {{"recordings", ExemplarSource::recordings}, {"first", ExemplarSource::first}});
   s.views = static_cast<int>(params.integer("orco_views", s.views, ValidRange::at_least(2)));
   s.mask_time_fraction = params.real("orco_mask_time", s.mask_time_fraction, ValidRange::from_up_to(0, 1));
   s.mask_mel_fraction = params.real("orco_mask_mel", s.mask_mel_fraction, ValidRange::from_up_to(0, 1));

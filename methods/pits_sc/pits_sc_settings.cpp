@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/named_choice.h"
 #include "core/parameter_set.h"
 
 namespace fscil {
@@ -11,8 +12,10 @@ PitsScSettings PitsScSettings::from(const ParameterSet& params) {
   s.pretrain = SupervisedSchedule::from(params);
   s.p_cutmix = params.real("p_cutmix", s.p_cutmix, ValidRange::between(0, 1));
   s.cutmix_alpha = params.real("cutmix_alpha", s.cutmix_alpha, ValidRange::above(0));
-  s.cutmix_after_input_norm = params.choice("cutmix_space", "standardised", {"standardised", "raw"}) == "standardised";
-  s.cutmix_loss_mixed = params.choice("cutmix_loss", "original", {"original", "mixed"}) == "mixed";
+  s.cutmix_after_input_norm =
+      named_choice(params, "cutmix_space", s.cutmix_after_input_norm, {{"standardised", true}, {"raw", false}});
+  s.cutmix_loss_mixed =
+      named_choice(params, "cutmix_loss", s.cutmix_loss_mixed, {{"original", false}, {"mixed", true}});
 
   s.pit = s.pretrain;
   s.pit.epochs = static_cast<int>(params.integer("pit_epochs", 10, ValidRange::at_least(0)));
