@@ -22,7 +22,7 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   view.noise = params.real("cpi_noise", view.noise, ValidRange::at_least(0));
   view.max_shift_fraction = params.real("cpi_max_shift", view.max_shift_fraction, ValidRange::from_up_to(0, 1));
   cpi.reference = named_choice(params, "cpi_reference", cpi.reference,
-                         {{"farthest", ReferenceChoice::farthest}, {"random", ReferenceChoice::random}});
+                               {{"farthest", ReferenceChoice::farthest}, {"random", ReferenceChoice::random}});
   cpi.standardised_distance =
       named_choice(params, "cpi_distance", cpi.standardised_distance, {{"standardised", true}, {"raw", false}});
   cpi.ranked_references =
@@ -32,11 +32,11 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.support_coverage = params.real("cpi_support_coverage", s.support_coverage, ValidRange::between(0, 1));
   s.query_coverage = params.real("cpi_query_coverage", s.query_coverage, ValidRange::between(0, 1));
   s.kept = named_choice(params, "cpi_kept", s.kept,
-                  {{"query", KeptCoverage::query}, {"clean", KeptCoverage::clean}, {"split", KeptCoverage::split}});
+                        {{"query", KeptCoverage::query}, {"clean", KeptCoverage::clean}, {"split", KeptCoverage::split}});
   s.episode_statistics = named_choice(params, "cpi_bn_statistics", s.episode_statistics,
-                                {{"update", EpisodeStatistics::update},
-                                 {"guarded", EpisodeStatistics::guarded},
-                                 {"reestimate", EpisodeStatistics::reestimate}});
+                                      {{"update", EpisodeStatistics::update},
+                                       {"guarded", EpisodeStatistics::guarded},
+                                       {"reestimate", EpisodeStatistics::reestimate}});
   s.pretrain_coverage = params.real("cpi_pretrain_coverage", s.pretrain_coverage, ValidRange::between(0, 1));
 
   s.reflections = params.integer("pcqa_reflections", s.reflections, ValidRange::at_least(1));

@@ -1,5 +1,6 @@
-// CoP-FSCIL as a method: its named settings, its variants, the episode coverage of CPI, PSPC's session update and
-// its loss, seeded repeatability and base sharing between variants, on the tiny 10-class protocol (6 base, 2-way 5-shot).
+// CoP-FSCIL as a method: its named settings, its variants, the episode coverage of CPI, PSPC's
+// session update and its loss, seeded repeatability and base sharing between variants, on the tiny
+// 10-class protocol (6 base, 2-way 5-shot).
 #include <gtest/gtest.h>
 
 #include <algorithm>
