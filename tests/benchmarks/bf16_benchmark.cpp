@@ -1,0 +1,112 @@
+// Is training in bfloat16 worth a `--precision bf16` (issue 41, item 5)? The shared encoder's
+// training step and inference pass (as resnet18_benchmark runs them) in fp32 and under LibTorch's
+// CPU autocast to bfloat16, and one 3 x 3 convolution, forward and backward, in both types in the
+// channels-last layout oneDNN's kernels use. Each bf16 figure is labelled with its ratio to the fp32
+// figure measured just before it in this run. Only a CPU with AVX512-BF16 (or AMX) has the bf16
+// kernels; on others bf16 is emulated and the ratio says nothing of the option's worth.
+#include <ATen/autocast_mode.h>
+#include <benchmark/benchmark.h>
+#include <fmt/format.h>
+#include <torch/torch.h>
+
+#include <chrono>
+#include <map>
+#include <string>
+
+#include "methods/common/encoder_step.h"
+
+namespace {
+
+constexpr std::int64_t kBatch = 128;
+constexpr double kWorthIt = 1.3;  // (ours) what a precision that changes the numbers must buy: the speed issues' target
+
+std::map<std::string, double>& fp32_rates() {
+  static std::map<std::string, double> rates;
+  return rates;
+}
+
+void report(benchmark::State& state, const std::string& figure, bool bf16, double items, double seconds) {
+  const double rate = items / seconds;
+  state.counters["per_s"] = rate;
+  if (!bf16) {
+    fp32_rates()[figure] = rate;
+    state.SetLabel("fp32");
+    return;
+  }
+  const auto fp32 = fp32_rates().find(figure);
+  if (fp32 == fp32_rates().end()) {
+    state.SetLabel("no fp32 rate: run the fp32 figure in the same run (no --benchmark_filter)");
+    return;
+  }
+  const double ratio = rate / fp32->second;
+  state.SetLabel(fmt::format("{:.2f}x fp32, worth an option at >= {}x: {}", ratio, kWorthIt,
+                             ratio >= kWorthIt ? "yes" : "no"));
+}
+
+struct Shape {
+  const char* name;
+  std::int64_t channels, mel_bins, frames;
+};
+
+// Autocast is on only inside the timed steps, so nothing else in the program runs in bf16.
+class Autocast {
+ public:
+  explicit Autocast(bool on) {
+    at::autocast::set_autocast_cpu_dtype(at::kBFloat16);
+    at::autocast::set_cpu_enabled(on);
+  }
+  ~Autocast() {
+    at::autocast::set_cpu_enabled(false);
+    at::autocast::clear_cache();
+  }
+};
+
+void step(benchmark::State& state, Shape shape, bool train, bool bf16) {
+  torch::manual_seed(1);
+  fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
+  const Autocast autocast(bf16);
+  const auto once = [&] {
+    if (train)
+      work.train();
+    else
+      work.infer();
+    at::autocast::clear_cache();  // autocast keeps bf16 copies of the weights, stale after a step
+  };
+  once();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) once();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report(state, fmt::format("{}/{}", train ? "train" : "infer", shape.name), bf16,
+         static_cast<double>(kBatch * state.iterations()), seconds);
+}
+
+// ResNet-18's first stage on an NS-100 batch: 128 x 64 x 32 x 16.
+void conv3x3(benchmark::State& state, bool bf16) {
+  const auto type = bf16 ? torch::kBFloat16 : torch::kFloat;
+  const auto layout = torch::MemoryFormat::ChannelsLast;
+  const torch::Tensor input = torch::randn({kBatch, 64, 32, 16}).to(type).contiguous(layout).requires_grad_();
+  const torch::Tensor weight = torch::randn({64, 64, 3, 3}).to(type).contiguous(layout).requires_grad_();
+  const auto once = [&] { torch::conv2d(input, weight, {}, 1, 1).sum().backward(); };
+  once();
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) once();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  report(state, "conv3x3", bf16, static_cast<double>(kBatch * state.iterations()), seconds);
+}
+
+constexpr Shape kHaptex{"haptex_5x64x24", 5, 64, 24};
+constexpr Shape kNs100{"ns100_3x128x63", 3, 128, 63};
+
+// Registration order is run order: every fp32 figure before its bf16 twin.
+BENCHMARK_CAPTURE(conv3x3, fp32, false)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(conv3x3, bf16, true)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
+BENCHMARK_CAPTURE(step, train_haptex_fp32, kHaptex, true, false)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(step, train_haptex_bf16, kHaptex, true, true)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(step, infer_haptex_fp32, kHaptex, false, false)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(step, infer_haptex_bf16, kHaptex, false, true)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
+BENCHMARK_CAPTURE(step, train_ns100_fp32, kNs100, true, false)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+BENCHMARK_CAPTURE(step, train_ns100_bf16, kNs100, true, true)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+BENCHMARK_CAPTURE(step, infer_ns100_fp32, kNs100, false, false)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(10);
+BENCHMARK_CAPTURE(step, infer_ns100_bf16, kNs100, false, true)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(10);
+
+}  // namespace
