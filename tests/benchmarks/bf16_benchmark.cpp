@@ -3,17 +3,19 @@
 // CPU autocast to bfloat16, and one 3 x 3 convolution, forward and backward, in both types in the
 // channels-last layout oneDNN's kernels use. Each bf16 figure is labelled with its ratio to the fp32
 // figure measured just before it in this run. Only a CPU with AVX512-BF16 (or AMX) has the bf16
-// kernels; on others bf16 is emulated and the ratio says nothing of the option's worth.
+// kernels; on others bf16 is emulated, and the label says so.
 #include <ATen/autocast_mode.h>
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <torch/torch.h>
 
 #include <chrono>
+#include <fstream>
 #include <map>
 #include <string>
 
 #include "methods/common/encoder_step.h"
+#include "tests/benchmarks/pytorch_anchors.h"
 
 namespace {
 
@@ -25,9 +27,16 @@ std::map<std::string, double>& fp32_rates() {
   return rates;
 }
 
-void report(benchmark::State& state, const std::string& figure, bool bf16, double items, double seconds) {
-  const double rate = items / seconds;
-  state.counters["per_s"] = rate;
+bool has_bf16_kernels() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  const std::string text{std::istreambuf_iterator<char>(cpuinfo), std::istreambuf_iterator<char>()};
+  return text.find("avx512_bf16") != std::string::npos || text.find("amx_bf16") != std::string::npos;
+}
+
+void report(benchmark::State& state, const std::string& figure, bool bf16, double seconds) {
+  const double rate = static_cast<double>(kBatch * state.iterations()) / seconds;
+  state.counters["samples_per_s"] =
+      benchmark::Counter(static_cast<double>(kBatch), benchmark::Counter::kIsIterationInvariantRate);
   if (!bf16) {
     fp32_rates()[figure] = rate;
     state.SetLabel("fp32");
@@ -35,12 +44,12 @@ void report(benchmark::State& state, const std::string& figure, bool bf16, doubl
   }
   const auto fp32 = fp32_rates().find(figure);
   if (fp32 == fp32_rates().end()) {
-    state.SetLabel("no fp32 rate: run the fp32 figure in the same run (no --benchmark_filter)");
+    state.SetLabel("no fp32 rate: its fp32 twin must run first (a filter that keeps it, no random interleaving)");
     return;
   }
-  const double ratio = rate / fp32->second;
-  state.SetLabel(fmt::format("{:.2f}x fp32, worth an option at >= {}x: {}", ratio, kWorthIt,
-                             ratio >= kWorthIt ? "yes" : "no"));
+  static const bool native = has_bf16_kernels();
+  state.SetLabel(fscil::anchor_label(rate, fp32->second, kWorthIt, "fp32") +
+                 (native ? "" : " (no AVX512-BF16 or AMX: bf16 emulated)"));
 }
 
 struct Shape {
@@ -48,7 +57,7 @@ struct Shape {
   std::int64_t channels, mel_bins, frames;
 };
 
-// Autocast is on only inside the timed steps, so nothing else in the program runs in bf16.
+// Autocast is on only inside one bf16 figure (its warm-up and timed steps), so nothing else runs in bf16.
 class Autocast {
  public:
   explicit Autocast(bool on) {
@@ -76,8 +85,7 @@ void step(benchmark::State& state, Shape shape, bool train, bool bf16) {
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) once();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report(state, fmt::format("{}/{}", train ? "train" : "infer", shape.name), bf16,
-         static_cast<double>(kBatch * state.iterations()), seconds);
+  report(state, fmt::format("{}/{}", train ? "train" : "infer", shape.name), bf16, seconds);
 }
 
 // ResNet-18's first stage on an NS-100 batch: 128 x 64 x 32 x 16.
@@ -86,18 +94,19 @@ void conv3x3(benchmark::State& state, bool bf16) {
   const auto layout = torch::MemoryFormat::ChannelsLast;
   const torch::Tensor input = torch::randn({kBatch, 64, 32, 16}).to(type).contiguous(layout).requires_grad_();
   const torch::Tensor weight = torch::randn({64, 64, 3, 3}).to(type).contiguous(layout).requires_grad_();
-  const auto once = [&] { torch::conv2d(input, weight, {}, 1, 1).sum().backward(); };
+  // The gradients are returned, not accumulated into .grad, so no step adds a previous one's.
+  const auto once = [&] { torch::autograd::grad({torch::conv2d(input, weight, {}, 1, 1).sum()}, {input, weight}); };
   once();
   const auto start = std::chrono::steady_clock::now();
   for (auto _ : state) once();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report(state, "conv3x3", bf16, static_cast<double>(kBatch * state.iterations()), seconds);
+  report(state, "conv3x3", bf16, seconds);
 }
 
 constexpr Shape kHaptex{"haptex_5x64x24", 5, 64, 24};
 constexpr Shape kNs100{"ns100_3x128x63", 3, 128, 63};
 
-// Registration order is run order: every fp32 figure before its bf16 twin.
+// Registration order is run order (unless interleaved at random): each fp32 figure before its bf16 twin.
 BENCHMARK_CAPTURE(conv3x3, fp32, false)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK_CAPTURE(conv3x3, bf16, true)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 BENCHMARK_CAPTURE(step, train_haptex_fp32, kHaptex, true, false)->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
