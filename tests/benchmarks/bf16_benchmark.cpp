@@ -9,7 +9,6 @@
 #include <fmt/format.h>
 #include <torch/torch.h>
 
-#include <chrono>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -17,6 +16,7 @@
 
 #include "methods/common/encoder_step.h"
 #include "tests/benchmarks/pytorch_anchors.h"
+#include "tests/benchmarks/timed_steps.h"
 
 namespace {
 
@@ -65,10 +65,7 @@ class Autocast {
     at::autocast::set_autocast_cpu_dtype(at::kBFloat16);
     at::autocast::set_cpu_enabled(on);
   }
-  ~Autocast() {
-    at::autocast::set_cpu_enabled(false);
-    at::autocast::clear_cache();
-  }
+  ~Autocast() { at::autocast::set_cpu_enabled(false); }
 };
 
 void step(benchmark::State& state, Shape shape, bool train, bool bf16) {
@@ -82,10 +79,7 @@ void step(benchmark::State& state, Shape shape, bool train, bool bf16) {
       work.infer();
     at::autocast::clear_cache();  // autocast keeps bf16 copies of the weights, stale after a step
   };
-  once();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
-  const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) once();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = fscil::seconds_of_steps(state, once);
   report(state, fmt::format("{}/{}", train ? "train" : "infer", shape.name), bf16, seconds);
 }
 
@@ -97,11 +91,7 @@ void conv3x3(benchmark::State& state, bool bf16) {
   const torch::Tensor weight = torch::randn({64, 64, 3, 3}).to(type).contiguous(layout).requires_grad_();
   // The gradients are returned, not accumulated into .grad, so no step adds a previous one's.
   const auto once = [&] { torch::autograd::grad({torch::conv2d(input, weight, {}, 1, 1).sum()}, {input, weight}); };
-  once();
-  const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) once();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  report(state, "conv3x3", bf16, seconds);
+  report(state, "conv3x3", bf16, fscil::seconds_of_steps(state, once));
 }
 
 constexpr Shape kHaptex{"haptex_5x64x24", 5, 64, 24};

@@ -7,11 +7,10 @@
 #include <fmt/format.h>
 #include <torch/torch.h>
 
-#include <chrono>
-
 #include "methods/common/encoder_step.h"
 #include "methods/common/resnet18.h"
 #include "tests/benchmarks/pytorch_anchors.h"
+#include "tests/benchmarks/timed_steps.h"
 
 namespace {
 
@@ -43,20 +42,14 @@ void report(benchmark::State& state, const std::string& figure, double flops_per
 void train(benchmark::State& state, Shape shape) {
   torch::manual_seed(1);
   fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
-  work.train();  // warm-up: first-touch page faults and oneDNN's kernel generation are not the rate
-  const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) work.train();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = fscil::seconds_of_steps(state, [&] { work.train(); });
   report(state, fmt::format("train/{}", shape.name), 3 * forward_flops(work.encoder(), shape), seconds);
 }
 
 void infer(benchmark::State& state, Shape shape) {
   torch::manual_seed(1);
   fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
-  work.infer();  // warm-up
-  const auto start = std::chrono::steady_clock::now();
-  for (auto _ : state) work.infer();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds = fscil::seconds_of_steps(state, [&] { work.infer(); });
   report(state, fmt::format("infer/{}", shape.name), forward_flops(work.encoder(), shape), seconds);
 }
 
