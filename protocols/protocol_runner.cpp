@@ -8,12 +8,31 @@
 
 #include "datasets/log_mel_extractor.h"
 #include "metrics/context_dispersion.h"
+#include "metrics/convergence.h"
 #include "metrics/resource_usage.h"
 #include "protocols/scored_embeddings.h"
 
 namespace fscil {
 
 namespace {
+
+// Whether the base training had finished (metrics/convergence.h): the largest rise of a stage's
+// base validation over its last epochs as the `base_validation_rise` diagnostic, and the verdict
+// as a progress note.
+void note_training_verdict(SessionOutcome& outcome, ProgressReporter* progress) {
+  const std::vector<StageConvergence> stages = judge_stages(outcome.training_log);
+  if (stages.empty()) return;
+  double rise = stages.front().rise;
+  std::vector<std::string> described;
+  for (const auto& stage : stages) {
+    rise = std::max(rise, stage.rise);
+    described.push_back(describe_stage(stage));
+  }
+  outcome.diagnostics["base_validation_rise"] = rise;
+  if (progress != nullptr) {
+    progress->note(fmt::format("training {} ({})", verdict_name(run_verdict(stages)), fmt::join(described, "; ")));
+  }
+}
 
 torch::Tensor tensor_of(const FloatArray& array) {
   // from_blob wraps the dataset's memory without copying; callers index_select an owned copy.
@@ -180,6 +199,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     outcome.train_seconds = session == 0 && inherited_base ? inherited_base->seconds : context.session_clock.seconds();
     outcome.diagnostics = session == 0 && inherited_base ? inherited_base->diagnostics : context.diagnostics;
     outcome.training_log = session == 0 && inherited_base ? inherited_base->training_log : context.training_log;
+    if (session == 0) note_training_verdict(outcome, context.progress);
 
     Stopwatch test_clock;
     const std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);

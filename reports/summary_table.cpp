@@ -47,6 +47,39 @@ std::string row_label(const SummaryRow& row) {
   return row.method;
 }
 
+TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts) {
+  const auto any = [&](TrainingVerdict verdict) {
+    return std::find(verdicts.begin(), verdicts.end(), verdict) != verdicts.end();
+  };
+  if (verdicts.empty() || std::all_of(verdicts.begin(), verdicts.end(),
+                                      [](TrainingVerdict v) { return v == TrainingVerdict::not_recorded; })) {
+    return TrainingVerdict::not_recorded;
+  }
+  if (any(TrainingVerdict::still_rising)) return TrainingVerdict::still_rising;
+  if (any(TrainingVerdict::unjudged) || any(TrainingVerdict::not_recorded)) return TrainingVerdict::unjudged;
+  return TrainingVerdict::converged;
+}
+
+std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows) {
+  std::vector<std::string> notes;
+  for (const auto* row : rows) {
+    std::string label = row_label(*row);
+    if (const std::string cell = grid_cell_name(row->grid); !cell.empty()) label += " [" + cell + "]";
+    for (const auto& note : row->unfinished) notes.push_back(label + ", " + note);
+  }
+  return notes;
+}
+
+std::string unfinished_warning(const SummaryTable& table) {
+  std::vector<const SummaryRow*> rows;
+  for (const auto& row : table.rows) rows.push_back(&row);
+  std::string out;
+  for (const auto& note : unfinished_notes(rows)) {
+    out += fmt::format("warning: base training still rising when its schedule ended, not at its plateau: {}\n", note);
+  }
+  return out;
+}
+
 SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
   using Key = std::tuple<std::string, std::string, std::map<std::string, std::string>, std::string>;
   const auto key_of = [](const RunRecord& record) {
@@ -75,6 +108,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
     row.selection = selection;
     std::vector<std::vector<double>> per_session, base_per_session, novel_per_session, harmonic_per_session;
     std::vector<double> aa, pd, adr;
+    std::vector<TrainingVerdict> verdicts;
     for (const auto& record : records) {
       if (key_of(record) != key) continue;
       if (std::find(row.seeds.begin(), row.seeds.end(), record.seed) != row.seeds.end()) {
@@ -100,7 +134,15 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
       pd.push_back(summary.performance_drop);
       adr.push_back(summary.average_drop_rate);
       row.seeds.push_back(record.seed);
+      const std::vector<StageConvergence> stages =
+          record.sessions.empty() ? std::vector<StageConvergence>{} : judge_stages(record.sessions.front().training_log);
+      verdicts.push_back(run_verdict(stages));
+      for (const auto& stage : stages) {
+        if (stage.verdict != TrainingVerdict::still_rising) continue;
+        row.unfinished.push_back(fmt::format("seed {}, {}", record.seed, describe_stage(stage)));
+      }
     }
+    row.training = seeds_verdict(verdicts);
     for (std::size_t s = 0; s < per_session.size(); ++s) {
       row.session_accuracy.push_back(statistic_of(per_session[s]));
       row.session_base_accuracy.push_back(statistic_of(base_per_session[s]));

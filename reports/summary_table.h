@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "metrics/convergence.h"
 #include "reports/run_record.h"
 
 namespace fscil {
@@ -29,6 +30,10 @@ struct SummaryRow {
   // mean (the novel ones and the harmonic mean are 0 in the base session).
   std::vector<SeedStatistic> session_base_accuracy, session_novel_accuracy, session_harmonic_mean;
   SeedStatistic average_accuracy, performance_drop, average_drop_rate;
+  // Whether its base training had finished (metrics/convergence.h) over its seeds: still rising
+  // if any seed's is, and per such seed and stage what was still rising ("seed 2, pretrain: ...").
+  TrainingVerdict training = TrainingVerdict::not_recorded;
+  std::vector<std::string> unfinished;
 };
 
 struct SummaryTable {
@@ -44,6 +49,16 @@ struct SummaryTable {
 // What a row is called in a table: the method, and for a selection other than the last epoch how
 // its epochs were chosen ("selected on test (inflated)": never to be read as an honest result).
 std::string row_label(const SummaryRow& row);
+
+// The base training's verdict over seeds: still rising if any seed's is; converged if every
+// seed's is; otherwise unjudged, or not recorded where no seed's log scored base validation.
+TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts);
+// The rows of `rows` whose base training was still rising, each note as "method (cell), seed N,
+// stage: ..." for a table's footnote; empty when every row finished.
+std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows);
+// "warning: ..." lines naming every run of `table` whose base training was still rising (check and
+// report --paper print them: such a number was not measured at its plateau); empty when none.
+std::string unfinished_warning(const SummaryTable& table);
 
 // Groups records by (method, dataset, sweep cell, selection). Throws ReportError when runs of one group disagree on
 // the number of sessions or repeat a seed, and when some runs were scored on the test split and

@@ -71,6 +71,15 @@ std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus
          fmt::format(fmt::runtime(interval), statistic->mean - statistic->ci95, statistic->mean + statistic->ci95);
 }
 
+// A row whose base training was still rising is marked, and its footnote says by how much.
+std::string marked_label(const SummaryRow& row, const char* dagger) {
+  return row.training == TrainingVerdict::still_rising ? row_label(row) + dagger : row_label(row);
+}
+
+constexpr const char* kUnfinishedNote =
+    "still rising when its schedule ended (base validation, the best of its last epochs against the best "
+    "before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau";
+
 std::string grid_value(const SummaryRow& row, const std::string& key) {
   const auto found = row.grid.find(key);
   return found == row.grid.end() ? std::string() : found->second;
@@ -94,7 +103,7 @@ std::string render_csv(const SummaryTable& table) {
     out += ",AA_ci95,PD_ci95,ADR_ci95";
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}_ci95", s);
   }
-  out += "\n";
+  out += ",training\n";
   for (const auto* row : all) {
     out += fmt::format("{},{}", row->method, row->dataset);
     for (const auto& key : grid_keys) out += "," + grid_value(*row, key);
@@ -115,7 +124,7 @@ std::string render_csv(const SummaryTable& table) {
         out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].ci95) : ",";
       }
     }
-    out += "\n";
+    out += fmt::format(",{}\n", verdict_name(row->training));
   }
   return out;
 }
@@ -145,14 +154,19 @@ std::string render_latex(const SummaryTable& table) {
     out += " & & & \\\\\n\\midrule\n";
     for (const auto* row : rows) {
       for (const auto& key : grid_keys) out += latex_text(grid_value(*row, key)) + " & ";
-      out += latex_text(row_label(*row));
+      out += latex_text(row_label(*row)) + (row->training == TrainingVerdict::still_rising ? "$^\\dagger$" : "");
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
         out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
       }
       out += " \\\\\n";
     }
-    out += "\\bottomrule\n\\end{tabular}\n\\end{table*}\n\n";
+    out += "\\bottomrule\n\\end{tabular}\n";
+    if (const auto notes = unfinished_notes(rows); !notes.empty()) {
+      out += fmt::format("\\par\\footnotesize $^\\dagger$ {}: {}.\n", latex_text(kUnfinishedNote),
+                         latex_text(fmt::format("{}", fmt::join(notes, "; "))));
+    }
+    out += "\\end{table*}\n\n";
   }
   return out;
 }
@@ -176,7 +190,7 @@ std::string render_markdown(const SummaryTable& table) {
     for (const auto* row : rows) {
       out += "|";
       for (const auto& key : grid_keys) out += fmt::format(" {} |", grid_value(*row, key));
-      out += fmt::format(" {} |", row_label(*row));
+      out += fmt::format(" {} |", marked_label(*row, " †"));
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, " ± ");
         out += is_best(column, *row, rows) ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);
@@ -184,6 +198,11 @@ std::string render_markdown(const SummaryTable& table) {
       out += "\n";
     }
     out += "\n";
+    if (const auto notes = unfinished_notes(rows); !notes.empty()) {
+      out += fmt::format("† {}:\n", kUnfinishedNote);
+      for (const auto& note : notes) out += fmt::format("- {}\n", note);
+      out += "\n";
+    }
   }
   return out;
 }

@@ -67,7 +67,7 @@ void AdbsMethod::train_base(const SessionData& base, RunContext& context) {
 // L86-L94), with the trained rows and |m_c|; here only under --selection, on what it names.
 void AdbsMethod::consider_epoch(BestEpoch& best, int epoch, RunContext& context) {
   const std::int64_t classes = context.base_classes;
-  consider_selection_score(best, "base", epoch, context, [&](const SessionData& data) {
+  score_base_epoch(best, "base", epoch, context, [&](const SessionData& data) {
     return boundaries_->scale(classifier_->forward(embed_rows(data.features), classes), classes);
   });
 }

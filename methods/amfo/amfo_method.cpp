@@ -93,7 +93,7 @@ void AmfoMethod::train_base(const SessionData& base, RunContext& context) {
   // L103, L147-L153): --selection.
   BestEpoch best({encoder_.get(), head_.get(), fusion_.get()});
   train_epochs(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
-    consider_selection_score(best, "base", epoch, context,
+    score_base_epoch(best, "base", epoch, context,
                              [&](const SessionData& data) { return fused_cosines(embed_rows(data.features)); });
   });
   best.restore(context, "base");

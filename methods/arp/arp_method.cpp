@@ -9,6 +9,7 @@
 #include "methods/arp/repeated_batch_statistics.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
+#include "methods/common/epoch_validation.h"
 #include "methods/common/session_order.h"
 #include "methods/common/supervised_training.h"
 
@@ -82,9 +83,11 @@ void ArpMethod::train_base(const SessionData& base, RunContext& context) {
   double lowest = std::numeric_limits<double>::infinity();
   int epochs_without_lower = 0;
   train_epochs_while(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
-    if (!may_stop && !select) return true;
-    const double validation_ce = validation_loss(*validation, classes);
+    if (validation == nullptr || validation->labels.size(0) == 0) return true;
+    const auto [validation_ce, accuracy] = validation_scores(*validation, classes);
     auto& values = context.training_log.back().values;
+    values[kBaseValidationKey] = accuracy;
+    if (!may_stop && !select) return true;
     values["validation_ce"] = validation_ce;
     if (select) {
       values["selection_score"] = -validation_ce;
@@ -164,11 +167,12 @@ torch::Tensor ArpMethod::relation_logits(const torch::Tensor& embeddings, const 
   return torch::cat(chunks);
 }
 
-double ArpMethod::validation_loss(const SessionData& validation, std::int64_t classes) {
+std::pair<double, double> ArpMethod::validation_scores(const SessionData& validation, std::int64_t classes) {
   torch::NoGradGuard no_grad;
   const torch::Tensor logits =
       relation_logits(embed_in_batches(encoder_, validation.features), rows_->rows.slice(0, 0, classes));
-  return F::cross_entropy(logits, validation.labels).item<double>();
+  const double accuracy = 100.0 * (logits.argmax(1) == validation.labels).to(torch::kDouble).mean().item<double>();
+  return {F::cross_entropy(logits, validation.labels).item<double>(), accuracy};
 }
 
 MethodEntry arp_entry() {

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <utility>
 
 #include "methods/arp/arp_settings.h"
 #include "methods/arp/refinement_attention.h"
@@ -43,7 +44,8 @@ class ArpMethod : public ModuleMethod {
  private:
   // The relation head's logits against `rows`, in eval mode.
   torch::Tensor relation_logits(const torch::Tensor& embeddings, const torch::Tensor& rows);
-  double validation_loss(const SessionData& validation, std::int64_t classes);
+  // Cross-entropy and top-1 accuracy (%) of the plain rows on `validation`'s base classes.
+  std::pair<double, double> validation_scores(const SessionData& validation, std::int64_t classes);
   void record_base_scores(RunContext& context);
 
   ArpSettings settings_;

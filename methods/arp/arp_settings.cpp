@@ -7,7 +7,14 @@ namespace fscil {
 
 ArpSettings ArpSettings::from(const ParameterSet& params) {
   ArpSettings s;
-  s.base = SupervisedSchedule::from(params);
+  // The release's optimiser: plain SGD (its parsed momentum is never passed, main_SPPR_Nsynth.py
+  // L60, L501), the rate falling by a cosine over every step (Utils.py L130-L137, called per
+  // iteration at main L154-L155).
+  SupervisedSchedule released;
+  released.momentum = 0;
+  released.nesterov = false;
+  released.decay = LearningRateDecay::cosine;
+  s.base = SupervisedSchedule::from(params, released);
   s.way = static_cast<int>(params.integer("arp_way", s.way, ValidRange::at_least(1)));
   s.shot = static_cast<int>(params.integer("arp_shot", s.shot, ValidRange::at_least(1)));
   s.tasks = static_cast<int>(params.integer("arp_tasks", s.tasks, ValidRange::at_least(1)));

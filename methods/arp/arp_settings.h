@@ -7,9 +7,10 @@ class ParameterSet;
 
 // ARP's hyper-parameters as named options. Defaults are the release's NS-100 run
 // (chester-w-xie/APR main_SPPR_Nsynth.py and README.md at 78426ecf); docs/methods.md gives each
-// line. The base schedule is the shared pretraining schedule every method here gets.
+// line. The base schedule reads the shared pretraining keys, defaulting to the release's plain SGD
+// with a per-step cosine.
 struct ArpSettings {
-  SupervisedSchedule base;  // the shared pretraining schedule
+  SupervisedSchedule base;  // the shared pretraining keys, with the release's optimiser as defaults
   int way = 5;              // arp_way: classes a task replaces by their supports' means (--way, L453)
   int shot = 5;             // arp_shot: supports per episode class (--shot, L454)
   int tasks = 3;            // arp_tasks: tasks per step; the episode has way + tasks classes (--batch_task, L466)

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "methods/common/epoch_validation.h"
 #include "methods/common/parameter_snapshot.h"
 #include "methods/method.h"
 
@@ -47,26 +48,20 @@ class BestEpoch {
   int kept_epoch_ = 0;
 };
 
-// Scores the epoch just logged, `epoch` of `stage`, by the top-1 accuracy of `logits_of(data)` on
-// `data`, records it as the epoch's `selection_score` and lets `best` consider it.
-inline void consider_selection_score(BestEpoch& best, const std::string& stage, int epoch, RunContext& context,
-                                     const SessionData& data,
-                                     const std::function<torch::Tensor(const SessionData&)>& logits_of) {
-  double score = 0;
-  {
-    torch::NoGradGuard no_grad;
-    score = 100.0 * (logits_of(data).argmax(1) == data.labels).to(torch::kDouble).mean().item<double>();
-  }
+// The epoch's base validation (record_epoch_validation) and, under a selection
+// (RunContext::base_selection_data), its "selection_score" on the selection data, which `best`
+// considers: base validation's own accuracy where it selects.
+inline void score_base_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context,
+                             const std::function<torch::Tensor(const SessionData&)>& logits_of,
+                             const std::function<SessionData(const SessionData&)>& part = {}) {
+  const std::optional<double> validation = record_epoch_validation(context, logits_of, part);
+  const SessionData* selection = context.base_selection_data();
+  if (selection == nullptr) return;
+  const double score = selection == context.validation && validation
+                           ? *validation
+                           : top1_accuracy(part ? part(*selection) : *selection, logits_of);
   context.training_log.back().values["selection_score"] = score;
   best.consider(stage, epoch, score);
-}
-
-// The same on the run's selection data (RunContext::base_selection_data); nothing when the last
-// epoch is kept.
-inline void consider_selection_score(BestEpoch& best, const std::string& stage, int epoch, RunContext& context,
-                                     const std::function<torch::Tensor(const SessionData&)>& logits_of) {
-  const SessionData* data = context.base_selection_data();
-  if (data != nullptr) consider_selection_score(best, stage, epoch, context, *data, logits_of);
 }
 
 }  // namespace fscil

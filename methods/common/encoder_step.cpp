@@ -21,7 +21,7 @@ EncoderStep::EncoderStep(std::int64_t channels, std::int64_t mel_bins, std::int6
     : classes_(classes),
       encoder_(ResNet18Options{channels, mel_bins}),
       classifier_(classes, encoder_->embedding_size(), 16.0),
-      optimizer_(make_nesterov_sgd(trained_parameters(encoder_, classifier_), SupervisedSchedule{})),
+      optimizer_(make_schedule_sgd(trained_parameters(encoder_, classifier_), SupervisedSchedule{})),
       features_(torch::randn({batch, channels, mel_bins, frames})),
       labels_(torch::randint(classes, {batch})) {}
 

@@ -2,32 +2,47 @@
 
 #include <cmath>
 
+#include "core/named_choice.h"
 #include "core/stop_request.h"
+#include "methods/common/embedding.h"
+#include "methods/common/epoch_validation.h"
 #include "methods/common/shuffled_batches.h"
 
 namespace fscil {
 
-SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params) {
-  SupervisedSchedule schedule;
+SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params, const SupervisedSchedule& defaults) {
+  SupervisedSchedule schedule = defaults;
   schedule.epochs = static_cast<int>(params.integer("pretrain_epochs", schedule.epochs, ValidRange::at_least(0)));
   schedule.learning_rate = params.real("pretrain_lr", schedule.learning_rate, ValidRange::above(0));
   schedule.batch_size = static_cast<int>(params.integer("batch_size", schedule.batch_size, ValidRange::at_least(2)));
   schedule.momentum = params.real("momentum", schedule.momentum, ValidRange::from_up_to(0, 1));
   schedule.weight_decay = params.real("weight_decay", schedule.weight_decay, ValidRange::at_least(0));
-  schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step, ValidRange::at_least(1)));
-  schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma, ValidRange::above_up_to(0, 1));
+  schedule.decay = named_choice(params, "lr_decay", schedule.decay,
+                                {{"step", LearningRateDecay::step}, {"cosine", LearningRateDecay::cosine}});
+  if (schedule.decay == LearningRateDecay::step) {
+    schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step, ValidRange::at_least(1)));
+    schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma, ValidRange::above_up_to(0, 1));
+  }
   return schedule;
 }
 
-torch::optim::SGD make_nesterov_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule) {
+double SupervisedSchedule::rate_at(int epoch, std::int64_t step, std::int64_t steps_per_epoch) const {
+  if (decay == LearningRateDecay::step) return learning_rate * std::pow(lr_gamma, epoch / lr_step);
+  const double steps = static_cast<double>(epochs) * static_cast<double>(steps_per_epoch);
+  const double t = static_cast<double>(epoch) * static_cast<double>(steps_per_epoch) + static_cast<double>(step);
+  return 0.5 * learning_rate * (1 + std::cos(M_PI * t / steps));
+}
+
+torch::optim::SGD make_schedule_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule) {
   return torch::optim::SGD(parameters, torch::optim::SGDOptions(schedule.learning_rate)
                                            .momentum(schedule.momentum)
-                                           .nesterov(true)
+                                           .nesterov(schedule.nesterov && schedule.momentum > 0)
                                            .weight_decay(schedule.weight_decay));
 }
 
-void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch) {
-  const double rate = schedule.learning_rate * std::pow(schedule.lr_gamma, epoch / schedule.lr_step);
+void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch, std::int64_t step,
+                       std::int64_t steps_per_epoch) {
+  const double rate = schedule.rate_at(epoch, step, steps_per_epoch);
   for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
 }
 
@@ -43,14 +58,16 @@ double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLos
 double train_epochs_while(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss,
                           const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
                           const std::string& phase, const std::function<bool(int)>& keep_going) {
-  torch::optim::SGD optimizer = make_nesterov_sgd(parameters, schedule);
+  torch::optim::SGD optimizer = make_schedule_sgd(parameters, schedule);
+  const std::int64_t samples = data.features.count();
+  const std::int64_t steps_per_epoch = (samples + schedule.batch_size - 1) / schedule.batch_size;
   double last_loss = 0;
   for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
-    set_epoch_learning_rate(optimizer, schedule, epoch);
     double loss_sum = 0;
     std::int64_t batches = 0;
-    for (const torch::Tensor& index : shuffled_batches(data.features.count(), schedule.batch_size, context.generator)) {
+    for (const torch::Tensor& index : shuffled_batches(samples, schedule.batch_size, context.generator)) {
       if (index.size(0) < 2) break;  // BatchNorm cannot train on a single sample
+      set_learning_rate(optimizer, schedule, epoch, batches, steps_per_epoch);
       const torch::Tensor loss = batch_loss(data.features.gather(index), data.labels.index_select(0, index));
       optimizer.zero_grad();
       loss.backward();
@@ -78,7 +95,12 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
   const BatchLoss cross_entropy = [&](const torch::Tensor& features, const torch::Tensor& labels) {
     return torch::nn::functional::cross_entropy(classifier->forward(encoder->forward(features), classes), labels);
   };
-  return train_epochs(parameters, cross_entropy, data, schedule, context, phase);
+  // What it trains is the base classifier's stage: base validation by the trained rows, every epoch.
+  return train_epochs(parameters, cross_entropy, data, schedule, context, phase, [&](int) {
+    record_epoch_validation(context, [&](const SessionData& scored) {
+      return classifier->forward(embed_in_batches(encoder, scored.features), classes);
+    });
+  });
 }
 
 StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes) {

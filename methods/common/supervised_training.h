@@ -10,18 +10,31 @@
 
 namespace fscil {
 
-// SGD with Nesterov momentum and a step learning-rate decay, as PITS-SC pretrains.
+// How the learning rate falls over a schedule: by lr_gamma every lr_step epochs (PITS-SC), or by
+// a cosine over every optimiser step to 0 (lr_t = lr (1 + cos(pi t / steps)) / 2, t = 0 .. steps - 1,
+// ARP's release: chester-w-xie/APR Utils.py L130-L137).
+enum class LearningRateDecay { step, cosine };
+
+// SGD with Nesterov momentum and a step learning-rate decay, as PITS-SC pretrains. A method whose
+// release trains otherwise passes its own defaults to from() (ARP: plain SGD, cosine).
 struct SupervisedSchedule {
   int epochs = 100;
   double learning_rate = 0.1;
   int batch_size = 128;
   double momentum = 0.9;
+  bool nesterov = true;  // with a momentum above 0 only (PyTorch refuses Nesterov without one)
   double weight_decay = 5e-4;
-  int lr_step = 40;  // epochs between decays
+  LearningRateDecay decay = LearningRateDecay::step;  // lr_decay=step | cosine
+  int lr_step = 40;  // epochs between decays (step only)
   double lr_gamma = 0.5;
 
-  // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_step, lr_gamma.
-  static SupervisedSchedule from(const ParameterSet& params);
+  // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_decay, and for the
+  // step decay lr_step and lr_gamma, each defaulting to `defaults`' value.
+  static SupervisedSchedule from(const ParameterSet& params, const SupervisedSchedule& defaults);
+  static SupervisedSchedule from(const ParameterSet& params) { return from(params, SupervisedSchedule()); }
+  // The learning rate of optimiser step `step` (0-based) of epoch `epoch` (0-based), of
+  // `steps_per_epoch`.
+  double rate_at(int epoch, std::int64_t step, std::int64_t steps_per_epoch) const;
 };
 
 // Work of the stages most methods share (MethodEntry::work): pretrain_epochs passes over the base
@@ -32,10 +45,12 @@ StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes);
 StageWork base_embedding_work(const RunSizes& sizes, int passes = 1);
 StageWork session_work(const RunSizes& sizes, double head_steps_per_session);
 
-// SGD with Nesterov momentum and the schedule's weight decay, at its initial learning rate.
-torch::optim::SGD make_nesterov_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule);
-// Sets the step-decayed learning rate of `epoch` (0-based).
-void set_epoch_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch);
+// SGD with the schedule's momentum (Nesterov where it says so) and weight decay, at its initial
+// learning rate.
+torch::optim::SGD make_schedule_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule);
+// Sets the learning rate of step `step` of `epoch` (0-based; SupervisedSchedule::rate_at).
+void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch,
+                       std::int64_t step = 0, std::int64_t steps_per_epoch = 1);
 
 // The loss of one mini-batch (features and labels already gathered).
 using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;

@@ -81,7 +81,7 @@ void CompFscilMethod::train_base(const SessionData& base, RunContext& context) {
     values["map_temperature"] = map_temperature_->value.item<double>();
     vector_sum = map_sum = reuse_sum = 0;
     steps = 0;
-    consider_selection_score(best, "base", epoch, context, [&](const SessionData& data) {
+    score_base_epoch(best, "base", epoch, context, [&](const SessionData& data) {
       return test_logits(embed_maps_in_batches(encoder_, data.features), base_classes_);
     });
   });

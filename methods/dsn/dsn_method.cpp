@@ -61,7 +61,7 @@ void DsnMethod::train_base(const SessionData& base, RunContext& context) {
   // The release keeps the base epoch with the best test accuracy (train.py L90-L96): --selection.
   BestEpoch best({encoder_.get(), head_.get()});
   train_epochs(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
-    consider_selection_score(best, "base", epoch, context, [&](const SessionData& data) {
+    score_base_epoch(best, "base", epoch, context, [&](const SessionData& data) {
       return head_->base_cosines(head_->project(embed_rows(data.features)));
     });
   });

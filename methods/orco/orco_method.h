@@ -58,10 +58,11 @@ class OrcoMethod : public Method {
   // With a `score`, the projector of the best-scoring check (every stop.check_every epochs and at
   // the last) is kept, training stops after stop.patience checks without a better one, and the
   // diagnostics `<kept>_kept_epoch`, `<kept>_epochs_trained` and `<kept>_stop_score` say so.
+  // `after_epoch` (may be empty) is called after each epoch is logged.
   void train_projector(const torch::Tensor& views, const torch::Tensor& labels, const ProjectorSchedule& schedule,
                        const ProjectorObjective& objective, const std::function<double()>& score,
                        const SessionStop& stop, RunContext& context, const std::string& phase,
-                       const std::string& kept);
+                       const std::string& kept, const std::function<void()>& after_epoch = {});
   // Accuracy (%) of frozen-encoder embeddings `encodings` of `data`'s base classes and of the rest
   // against the seen targets, and their harmonic mean (the reference's session score).
   double harmonic_mean_of(const torch::Tensor& encodings, const torch::Tensor& labels);

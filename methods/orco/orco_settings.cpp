@@ -9,6 +9,7 @@
 namespace fscil {
 
 double ProjectorSchedule::rate_at(int epoch) const {
+  if (decay == ProjectorDecay::milestone) return learning_rate * std::pow(0.1, (epoch >= 60) + (epoch >= 80));
   const int warmup = std::min(warmup_epochs, epochs);
   if (epoch < warmup) return warmup_start + epoch * (learning_rate - warmup_start) / std::max(1, warmup - 1);
   return final_rate +
@@ -31,6 +32,8 @@ OrcoSettings OrcoSettings::from(const ParameterSet& params) {
   s.base.learning_rate = params.real("orco_base_lr", s.base.learning_rate, ValidRange::above(0));
   s.base.batch_size =
       static_cast<int>(params.integer("orco_base_batch", s.pretrain.batch_size, ValidRange::at_least(2)));
+  s.base.decay = named_choice(params, "orco_base_schedule", s.base.decay,
+                              {{"milestone", ProjectorDecay::milestone}, {"cosine", ProjectorDecay::cosine}});
   s.session.epochs = static_cast<int>(params.integer("orco_session_epochs", s.session.epochs, ValidRange::at_least(0)));
   s.session.learning_rate = params.real("orco_session_lr", s.session.learning_rate, ValidRange::above(0));
   s.session.batch_size =

@@ -7,9 +7,14 @@ namespace fscil {
 
 class ParameterSet;
 
-// Projector training of phase 2 or of an incremental session: SGD with momentum, a linear
-// warmup from `warmup_start` over `warmup_epochs`, then a cosine decay of the learning rate to
-// `final_rate` over the remaining epochs, as the reference's LinearWarmupCosineAnnealingLR.
+// How a projector schedule's rate falls: the reference's LinearWarmupCosineAnnealingLR (a linear
+// warmup from `warmup_start` over `warmup_epochs`, then a cosine to `final_rate`), or its
+// base_schedule Milestone: the rate times 0.1 after epochs 60 and 80, which the paper-era phase 2
+// of 10 epochs never reaches (noorahmedds/OrCo models/orco/Network.py L1101-L1102 at 6608340).
+enum class ProjectorDecay { cosine, milestone };
+
+// Projector training of phase 2 or of an incremental session: SGD with momentum and dampening, the
+// rate following `decay`.
 struct ProjectorSchedule {
   int epochs = 10;
   double learning_rate = 0.25;
@@ -20,6 +25,7 @@ struct ProjectorSchedule {
   int batch_size = 128;
   int warmup_epochs = 0;
   double warmup_start = 3e-5;
+  ProjectorDecay decay = ProjectorDecay::cosine;
 
   // The learning rate of epoch `epoch` (0-based).
   double rate_at(int epoch) const;
@@ -56,7 +62,8 @@ struct OrcoSettings {
   double perturb_epsilon = 9e-5;
   double perturb_offset = 0.5;
 
-  ProjectorSchedule base;                                 // phase 2: 10 epochs, lr 0.25, wd 5e-4
+  // phase 2: 10 epochs at a constant lr 0.25, wd 5e-4 (run_cifar.sh L9, L13, L16; Milestone).
+  ProjectorSchedule base{10, 0.25, 1e-5, 5e-4, 0.9, 0.9, 128, 0, 3e-5, ProjectorDecay::milestone};
   ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64, 10};  // sessions: 100 epochs, lr 0.1, wd 1e-4
   SessionStop session_stop;
   double novel_ce_weight = 0.5;  // the reference's cos_n_lam

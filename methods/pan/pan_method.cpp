@@ -91,13 +91,11 @@ void PanMethod::train_standard(const SessionData& data, std::int64_t classes, co
     return F::cross_entropy(encoder_->forward(features).slice(1, 0, classes), labels);
   };
   BestEpoch best({encoder_.get()});
-  const SessionData* selection = context.base_selection_data();
-  const SessionData scored = selection != nullptr ? first_classes(*selection, classes) : SessionData{};
   train_epochs(encoder_parameters(), loss, data, settings_.standard, context, stage, [&](int epoch) {
-    if (selection == nullptr) return;
-    consider_selection_score(best, stage, epoch, context, scored, [&](const SessionData& scored_data) {
-      return embed_rows(scored_data.features).slice(1, 0, classes);
-    });
+    score_base_epoch(
+        best, stage, epoch, context,
+        [&](const SessionData& scored) { return embed_rows(scored.features).slice(1, 0, classes); },
+        [&](const SessionData& split) { return first_classes(split, classes); });
   });
   best.restore(context, stage);
 }

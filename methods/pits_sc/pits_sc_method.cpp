@@ -139,7 +139,7 @@ std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {
 }
 
 void PitsScMethod::consider_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context) {
-  consider_selection_score(best, stage, epoch, context, [&](const SessionData& data) {
+  score_base_epoch(best, stage, epoch, context, [&](const SessionData& data) {
     return classifier_->forward(embed_rows(data.features), context.base_classes, false);
   });
 }
@@ -153,11 +153,11 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
     return training_embedding(features, {}, probe_rows, context);
   };
   LossPartMeans means;
-  torch::optim::SGD optimizer = make_nesterov_sgd(parameters, settings_.pit);
+  torch::optim::SGD optimizer = make_schedule_sgd(parameters, settings_.pit);
   encoder_->train();
   classifier_->train();
   for (int epoch = 0; epoch < settings_.pit.epochs; ++epoch) {
-    set_epoch_learning_rate(optimizer, settings_.pit, epoch);
+    set_learning_rate(optimizer, settings_.pit, epoch);
     double loss_sum = 0;
     LossPartMeans epoch_means;
     for (int e = 0; e < settings_.pit_episodes; ++e) {

@@ -13,6 +13,7 @@
 #include "methods/common/embedding.h"
 #include "methods/common/module_state.h"
 #include "methods/common/resnet18.h"
+#include "metrics/convergence.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {
@@ -188,15 +189,6 @@ ParameterSet tiny_arp_params() {
   return params;
 }
 
-// Base validation of the tiny protocol: 6 classes x 5 samples.
-SessionData tiny_validation() {
-  SessionData data;
-  data.features = torch::randn({30, 2, 4, 4});
-  data.labels = torch::div(torch::arange(30), 5, "floor");
-  for (std::int64_t c = 0; c < 6; ++c) data.new_classes.push_back(c);
-  return data;
-}
-
 std::vector<double> logged(const RunContext& context, const std::string& value) {
   std::vector<double> values;
   for (const auto& epoch : context.training_log) {
@@ -232,7 +224,7 @@ TEST(ArpMethod, StopsOnceTheValidationLossHasNotFallenForMoreThanTheTolerance) {
   EXPECT_EQ(context.diagnostics.count("base_kept_epoch"), 0u);  // --selection last keeps the stopped epoch
 }
 
-TEST(ArpMethod, ValidationSelectionKeepsTheLowestLossAndLastNeedsNoValidationPass) {
+TEST(ArpMethod, ValidationSelectionKeepsTheLowestLossAndLastScoresOnlyTheBaseValidationAccuracy) {
   torch::manual_seed(5);
   const SessionData validation = tiny_validation();
   ParameterSet params = tiny_arp_params();
@@ -251,7 +243,8 @@ TEST(ArpMethod, ValidationSelectionKeepsTheLowestLossAndLastNeedsNoValidationPas
   const torch::Tensor logits = selected.classify(selected.embed_rows(validation.features));
   EXPECT_NEAR(F::cross_entropy(logits, validation.labels).item<double>(), *lowest, 1e-5);
 
-  // Under last with 4 epochs and tolerance 50 no stop can happen: no validation pass.
+  // Under last with 4 epochs and tolerance 50 no stop can happen: no validation loss, only the
+  // plain rows' accuracy every epoch (the training verdict's input), the last one the model's.
   torch::manual_seed(5);
   ArpMethod last(params);
   RunContext last_context = tiny_context(5);
@@ -259,6 +252,36 @@ TEST(ArpMethod, ValidationSelectionKeepsTheLowestLossAndLastNeedsNoValidationPas
   last.train_base(tiny_base(), last_context);
   EXPECT_TRUE(logged(last_context, "validation_ce").empty());
   EXPECT_EQ(last_context.training_log.size(), 4u);
+  const std::vector<double> accuracy = logged(last_context, kBaseValidationKey);
+  ASSERT_EQ(accuracy.size(), 4u);
+  EXPECT_NEAR(accuracy.back(), last.accuracy_on(validation), 1e-9);
+}
+
+// The release's optimiser (main_SPPR_Nsynth.py L60; Utils.py L130-L137): no momentum, the rate
+// by a cosine over every step, the shared keys still overriding it.
+TEST(ArpMethod, TrainsWithPlainSgdAndAPerStepCosineAsReleased) {
+  const ArpSettings released = ArpSettings::from(ParameterSet());
+  EXPECT_EQ(released.base.momentum, 0.0);
+  EXPECT_FALSE(released.base.nesterov);
+  EXPECT_EQ(released.base.decay, LearningRateDecay::cosine);
+  ParameterSet stepped;
+  stepped.set("lr_decay", "step");
+  stepped.set("momentum", "0.9");
+  EXPECT_EQ(ArpSettings::from(stepped).base.decay, LearningRateDecay::step);
+  EXPECT_EQ(ArpSettings::from(stepped).base.momentum, 0.9);
+  // 150 samples in batches of 64: 3 steps an epoch; the logged rate is each epoch's last step's.
+  ParameterSet params = tiny_arp_params();
+  params.set("pretrain_epochs", "2");
+  params.set("batch_size", "64");
+  torch::manual_seed(3);
+  ArpMethod method(params);
+  RunContext context = tiny_context(3);
+  method.train_base(tiny_base(), context);
+  const std::vector<double> rates = logged(context, "lr");
+  ASSERT_EQ(rates.size(), 2u);
+  const double lr = ArpSettings::from(params).base.learning_rate;
+  EXPECT_NEAR(rates[0], 0.5 * lr * (1 + std::cos(M_PI * 2 / 6)), 1e-12);
+  EXPECT_NEAR(rates[1], 0.5 * lr * (1 + std::cos(M_PI * 5 / 6)), 1e-12);
 }
 
 TEST(ArpMethod, BaseTrainingMovesTheEncoderTheRowsAndTheRelationHead) {

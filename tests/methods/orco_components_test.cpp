@@ -166,6 +166,24 @@ TEST(OrcoSchedule, SessionsWarmUpLinearlyFromThreeTimesTenToTheMinusFiveThenDeca
   EXPECT_NEAR(plain.rate_at(50), 0.05, 1e-12);
 }
 
+// Phase 2 as released (base_schedule Milestone, Network.py L1101-L1102 at 6608340): the rate
+// falls tenfold after epochs 60 and 80, so the paper-era 10 epochs run at a constant 0.25.
+TEST(OrcoSchedule, ThePhaseTwoProjectorKeepsItsRateForItsTenEpochsAsReleased) {
+  const OrcoSettings released = OrcoSettings::from(ParameterSet());
+  EXPECT_EQ(released.base.epochs, 10);
+  EXPECT_EQ(released.base.decay, ProjectorDecay::milestone);
+  for (int epoch = 0; epoch < 10; ++epoch) EXPECT_DOUBLE_EQ(released.base.rate_at(epoch), 0.25) << epoch;
+  EXPECT_DOUBLE_EQ(released.base.rate_at(59), 0.25);
+  EXPECT_NEAR(released.base.rate_at(60), 0.025, 1e-15);
+  EXPECT_NEAR(released.base.rate_at(80), 0.0025, 1e-15);
+  ParameterSet cosine;
+  cosine.set("orco_base_schedule", "cosine");
+  const ProjectorSchedule decayed = OrcoSettings::from(cosine).base;
+  EXPECT_NEAR(decayed.rate_at(5), 1e-5 + (0.25 - 1e-5) / 2, 1e-12);
+  // The sessions keep their warm-up and cosine.
+  EXPECT_EQ(released.session.decay, ProjectorDecay::cosine);
+}
+
 // 2 classes: class 0 from 8 recordings of 4 consecutive segments, class 1 from 2 recordings of 10.
 SessionData segmented_base() {
   SessionData base;

@@ -35,6 +35,15 @@ inline SessionData tiny_support(std::int64_t first_class) {
   return data;
 }
 
+// 6 base classes x 5 validation samples, features drawn from torch's generator.
+inline SessionData tiny_validation() {
+  SessionData data;
+  data.features = torch::randn({30, 2, 4, 4});
+  data.labels = torch::div(torch::arange(30), 5, "floor");
+  for (std::int64_t c = 0; c < 6; ++c) data.new_classes.push_back(c);
+  return data;
+}
+
 // The context of the tiny protocol: 10 classes, 6 of them base, 2 x 4 x 4 inputs.
 inline RunContext tiny_context(std::uint64_t seed) {
   RunContext context;

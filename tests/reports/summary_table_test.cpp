@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
 
 #include "core/error.h"
+#include "metrics/convergence.h"
 #include "reports/run_record.h"
 #include "tests/temporary_directory.h"
 
@@ -302,12 +304,64 @@ TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
   EXPECT_EQ(header, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
-                    "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95");
-  EXPECT_NE(csv.find(",63.5310,63.5310\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
+                    "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95,training");
+  EXPECT_NE(csv.find(",63.5310,63.5310,not recorded\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
   EXPECT_NE(csv.find("prototype,simtex,test,last,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
-  EXPECT_EQ(single, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1\n"
-                    "prototype,simtex,test,last,1,85.0000,10.0000,11.1111,90.0000,80.0000\n");
+  EXPECT_EQ(single, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
+                    "prototype,simtex,test,last,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded\n");
+}
+
+// A run whose base log scored base validation after each epoch of `stage`.
+RunRecord with_base_validation(RunRecord record, const std::string& stage, const std::vector<double>& accuracy) {
+  for (std::size_t e = 0; e < accuracy.size(); ++e) {
+    record.sessions.front().training_log.push_back(
+        {stage, static_cast<int>(e + 1), {{"loss", 1.0}, {kBaseValidationKey, accuracy[e]}}});
+  }
+  return record;
+}
+
+TEST(SummaryTable, EveryRenderingMarksARunWhoseBaseTrainingWasStillRising) {
+  const RunRecord finished = with_base_validation(record_of("prototype", 1, {90, 80}), "base", {50, 80, 90, 90, 90, 90});
+  const RunRecord rising = with_base_validation(record_of("amfo", 1, {70, 60}), "base", {20, 30, 40, 50, 60, 70});
+  const RunRecord rising_seed2 = with_base_validation(record_of("amfo", 2, {72, 61}), "base", {20, 30, 40, 50, 60, 61});
+  const SummaryTable table = summarize_runs({finished, rising, rising_seed2, record_of("pan", 1, {88, 77})});
+  ASSERT_EQ(table.rows.size(), 3u);
+  EXPECT_EQ(table.rows[0].training, TrainingVerdict::converged);
+  EXPECT_EQ(table.rows[1].training, TrainingVerdict::still_rising);
+  EXPECT_EQ(table.rows[2].training, TrainingVerdict::not_recorded);
+  // Seed 1 rose 70 - 40 = 30 points in its last 3 epochs; seed 2 21.
+  ASSERT_EQ(table.rows[1].unfinished.size(), 2u);
+  EXPECT_EQ(table.rows[1].unfinished[0], "seed 1, base: +30.00 points in its last 3 of 6 epochs (20.0% -> 70.0%)");
+
+  const std::string csv = render_csv(table);
+  const auto line_of = [&](const std::string& method) {
+    const std::size_t start = csv.find("\n" + method + ",") + 1;
+    return csv.substr(start, csv.find('\n', start) - start);
+  };
+  const auto ends_with = [](const std::string& line, const std::string& end) {
+    return line.size() >= end.size() && line.compare(line.size() - end.size(), end.size(), end) == 0;
+  };
+  EXPECT_TRUE(ends_with(line_of("prototype"), ",converged")) << csv;
+  EXPECT_TRUE(ends_with(line_of("amfo"), ",still rising")) << csv;
+  EXPECT_TRUE(ends_with(line_of("pan"), ",not recorded")) << csv;
+  const std::string markdown = render_markdown(table);
+  EXPECT_NE(markdown.find("| amfo † |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| prototype |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("\n- amfo, seed 2, base: +21.00 points in its last 3 of 6 epochs"), std::string::npos)
+      << markdown;
+  const std::string latex = render_latex(table);
+  EXPECT_NE(latex.find("amfo$^\\dagger$"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\\par\\footnotesize $^\\dagger$ still rising"), std::string::npos) << latex;
+  EXPECT_EQ(latex.find("prototype$^\\dagger$"), std::string::npos) << latex;
+  const std::string warning = unfinished_warning(table);
+  EXPECT_EQ(std::count(warning.begin(), warning.end(), '\n'), 2) << warning;
+  EXPECT_EQ(warning.rfind("warning: base training still rising when its schedule ended, not at its plateau: amfo, "
+                          "seed 1, base: +30.00",
+                          0),
+            0u)
+      << warning;
+  EXPECT_EQ(unfinished_warning(summarize_runs({finished})), "");
 }
 
 TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
@@ -399,7 +453,7 @@ TEST(SummaryTable, ASweepOverSelectionKeepsOneSelectionColumn) {
                       in_cell(record_of("orco", 1, {95, 65}), {{"selection", "last"}})});
   EXPECT_TRUE(table.grid_keys().empty());
   const std::string csv = render_csv(table);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training");
   EXPECT_NE(csv.find("\norco,simtex,test,test-oracle,1,85.0000,"), std::string::npos) << csv;
 }
 
@@ -410,11 +464,11 @@ TEST(SummaryTable, EveryRenderingHasAColumnPerGridKeyAndTheSelection) {
                                              in_cell(record_of("cop-fscil", 1, {90, 60}), {{"pic_weight", "1"}})});
   // ADR of one step is 100 x drop / first: 20/95 = 21.0526%, 30/95 = 31.5789%, 20/90, 30/90.
   EXPECT_EQ(render_csv(table),
-            "method,dataset,shot,pic_weight,split,selection,seeds,AA,PD,ADR,acc_0,acc_1\n"
-            "orco,simtex,5,,test,test-oracle,1,85.0000,20.0000,21.0526,95.0000,75.0000\n"
-            "orco,simtex,5,,test,last,1,80.0000,30.0000,31.5789,95.0000,65.0000\n"
-            "cop-fscil,simtex,,0.1,test,last,1,80.0000,20.0000,22.2222,90.0000,70.0000\n"
-            "cop-fscil,simtex,,1,test,last,1,75.0000,30.0000,33.3333,90.0000,60.0000\n");
+            "method,dataset,shot,pic_weight,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
+            "orco,simtex,5,,test,test-oracle,1,85.0000,20.0000,21.0526,95.0000,75.0000,not recorded\n"
+            "orco,simtex,5,,test,last,1,80.0000,30.0000,31.5789,95.0000,65.0000,not recorded\n"
+            "cop-fscil,simtex,,0.1,test,last,1,80.0000,20.0000,22.2222,90.0000,70.0000,not recorded\n"
+            "cop-fscil,simtex,,1,test,last,1,75.0000,30.0000,33.3333,90.0000,60.0000,not recorded\n");
 
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| shot | pic_weight | method | 0 | 1 | PD | AA | ADR |\n"

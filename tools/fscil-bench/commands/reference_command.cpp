@@ -6,6 +6,7 @@
 #include "reports/reference_numbers.h"
 #include "core/error.h"
 #include "reports/run_record.h"
+#include "reports/summary_table.h"
 
 namespace fscil {
 
@@ -20,7 +21,9 @@ void write_reference(const std::string& results, const std::string& out, double 
 
 int check_reference(const std::string& results, const std::string& reference) {
   const auto expected = load_reference_csv(reference);
-  const ReferenceCheck check = check_against_reference(load_run_records(results), expected);
+  const auto records = load_run_records(results);
+  fmt::print(stderr, "{}", unfinished_warning(summarize_runs(records)));
+  const ReferenceCheck check = check_against_reference(records, expected);
   for (const auto& failure : check.failures) fmt::print("FAIL {}\n", failure);
   if (check.failures.empty()) {
     fmt::print("all {} reference values of {} hold in {}\n", check.values_checked, reference, results);

@@ -1,0 +1,74 @@
+#include "metrics/convergence.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace fscil {
+
+namespace {
+
+StageConvergence judge(const std::string& stage, const std::vector<double>& accuracy) {
+  StageConvergence judged;
+  judged.stage = stage;
+  judged.epochs = static_cast<int>(accuracy.size());
+  judged.first = accuracy.front();
+  judged.last = accuracy.back();
+  judged.window = std::min(kConvergenceWindow, judged.epochs / 2);
+  if (judged.window == 0) return judged;
+  const auto split = accuracy.end() - judged.window;
+  judged.rise = *std::max_element(split, accuracy.end()) - *std::max_element(accuracy.begin(), split);
+  judged.verdict = judged.rise >= kStillRisingPoints ? TrainingVerdict::still_rising : TrainingVerdict::converged;
+  return judged;
+}
+
+}  // namespace
+
+std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
+  std::vector<std::string> stages;
+  std::vector<std::vector<double>> accuracy;
+  for (const EpochLog& row : log) {
+    const auto scored = row.values.find(kBaseValidationKey);
+    if (scored == row.values.end()) continue;
+    const auto known = std::find(stages.begin(), stages.end(), row.stage);
+    if (known == stages.end()) {
+      stages.push_back(row.stage);
+      accuracy.emplace_back();
+    }
+    accuracy[static_cast<std::size_t>(std::find(stages.begin(), stages.end(), row.stage) - stages.begin())].push_back(
+        scored->second);
+  }
+  std::vector<StageConvergence> judged;
+  for (std::size_t s = 0; s < stages.size(); ++s) judged.push_back(judge(stages[s], accuracy[s]));
+  return judged;
+}
+
+TrainingVerdict run_verdict(const std::vector<StageConvergence>& stages) {
+  if (stages.empty()) return TrainingVerdict::not_recorded;
+  const auto any = [&](TrainingVerdict verdict) {
+    return std::any_of(stages.begin(), stages.end(), [&](const StageConvergence& s) { return s.verdict == verdict; });
+  };
+  if (any(TrainingVerdict::still_rising)) return TrainingVerdict::still_rising;
+  if (any(TrainingVerdict::unjudged)) return TrainingVerdict::unjudged;
+  return TrainingVerdict::converged;
+}
+
+const char* verdict_name(TrainingVerdict verdict) {
+  switch (verdict) {
+    case TrainingVerdict::converged: return "converged";
+    case TrainingVerdict::still_rising: return "still rising";
+    case TrainingVerdict::unjudged: return "unjudged";
+    case TrainingVerdict::not_recorded: return "not recorded";
+  }
+  return "not recorded";
+}
+
+std::string describe_stage(const StageConvergence& stage) {
+  if (stage.verdict == TrainingVerdict::unjudged) {
+    return fmt::format("{}: {} scored epoch, too few to judge ({:.1f}%)", stage.stage, stage.epochs, stage.last);
+  }
+  return fmt::format("{}: {:+.2f} points in its last {} of {} epochs ({:.1f}% -> {:.1f}%)", stage.stage, stage.rise,
+                     stage.window, stage.epochs, stage.first, stage.last);
+}
+
+}  // namespace fscil

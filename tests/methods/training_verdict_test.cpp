@@ -1,0 +1,70 @@
+// Every method's base session scores base validation after each epoch of the stages that make its
+// base classifier (the training verdict's input, metrics/convergence.h), and that scoring changes
+// nothing it trains: the same state, to the bit, as a run without a validation split.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+
+#include "methods/method_registry.h"
+#include "metrics/convergence.h"
+#include "core/parameter_set.h"
+#include "tests/methods/tiny_base_session.h"
+
+namespace fscil {
+namespace {
+
+ParameterSet short_training() {
+  ParameterSet params;
+  for (const auto& [key, value] : std::map<std::string, std::string>{
+           {"pretrain_epochs", "2"}, {"pit_episodes", "2"}, {"pit_epochs", "2"}, {"batch_size", "32"},
+           {"orco_base_epochs", "2"}, {"orco_views", "2"}, {"orco_target_steps", "50"},
+           {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}, {"pan_pit_episodes", "2"},
+           {"pan_pit_epochs", "1"}}) {
+    params.set(key, value);
+  }
+  return params;
+}
+
+MethodState trained_base(const std::string& name, const SessionData* validation, RunContext& context) {
+  torch::manual_seed(9);
+  const std::unique_ptr<Method> method = create_method(name, short_training());
+  context.validation = validation;
+  method->train_base(tiny_base(), context);
+  return method->save_state();
+}
+
+TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWhatItTrains) {
+  const SessionData validation = tiny_validation();
+  std::map<std::string, std::set<std::string>> scored_stages;
+  for (const std::string& name : resolve_method_names("all")) {
+    RunContext scored = tiny_context(9), unscored = tiny_context(9);
+    const MethodState with = trained_base(name, &validation, scored);
+    const MethodState without = trained_base(name, nullptr, unscored);
+    ASSERT_EQ(with.size(), without.size()) << name;
+    for (const auto& [key, tensor] : with) {
+      EXPECT_TRUE(torch::equal(tensor, without.at(key))) << name << ": " << key << " depends on the scoring";
+    }
+    const std::vector<StageConvergence> stages = judge_stages(scored.training_log);
+    EXPECT_TRUE(judge_stages(unscored.training_log).empty()) << name;
+    ASSERT_FALSE(stages.empty()) << name << " scores no stage";
+    for (const auto& stage : stages) {
+      EXPECT_EQ(stage.epochs, 2) << name << ", " << stage.stage;  // every epoch of the stage
+      EXPECT_GE(stage.last, 0.0);
+      EXPECT_LE(stage.last, 100.0);
+      EXPECT_NE(stage.verdict, TrainingVerdict::unjudged) << name;
+      scored_stages[name].insert(stage.stage);
+    }
+  }
+  // The stages each method's base classifier comes from.
+  EXPECT_EQ(scored_stages.at("prototype"), (std::set<std::string>{"base"}));
+  EXPECT_EQ(scored_stages.at("pits-sc"), (std::set<std::string>{"pretrain", "pseudo-incremental"}));
+  EXPECT_EQ(scored_stages.at("orco"), (std::set<std::string>{"pretrain", "projector"}));
+  EXPECT_EQ(scored_stages.at("pan"), (std::set<std::string>{"temporary_standard", "standard"}));
+  for (const std::string name : {"adbs", "dsn", "comp-fscil", "arp", "amfo"}) {
+    EXPECT_EQ(scored_stages.at(name), (std::set<std::string>{"base"})) << name;
+  }
+}
+
+}  // namespace
+}  // namespace fscil

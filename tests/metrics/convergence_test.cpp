@@ -1,0 +1,70 @@
+#include "metrics/convergence.h"
+
+#include <gtest/gtest.h>
+
+namespace fscil {
+namespace {
+
+// A stage's log rows with a base-validation accuracy after each epoch, and one row without.
+std::vector<EpochLog> scored(const std::string& stage, const std::vector<double>& accuracy) {
+  std::vector<EpochLog> log;
+  for (std::size_t e = 0; e < accuracy.size(); ++e) {
+    log.push_back({stage, static_cast<int>(e + 1), {{"loss", 1.0}, {kBaseValidationKey, accuracy[e]}}});
+  }
+  return log;
+}
+
+TEST(Convergence, RisingLastEpochsAreStillRisingByTheBestAgainstTheBestBefore) {
+  // AMFO-like: the last three epochs' best (80) against the best of the first five (71): +9.
+  const auto stages = judge_stages(scored("base", {20, 35, 50, 62, 71, 74, 78, 80}));
+  ASSERT_EQ(stages.size(), 1u);
+  EXPECT_EQ(stages[0].verdict, TrainingVerdict::still_rising);
+  EXPECT_EQ(stages[0].window, 3);
+  EXPECT_DOUBLE_EQ(stages[0].rise, 9.0);
+  EXPECT_DOUBLE_EQ(stages[0].first, 20.0);
+  EXPECT_DOUBLE_EQ(stages[0].last, 80.0);
+  EXPECT_EQ(run_verdict(stages), TrainingVerdict::still_rising);
+  EXPECT_EQ(describe_stage(stages[0]), "base: +9.00 points in its last 3 of 8 epochs (20.0% -> 80.0%)");
+}
+
+TEST(Convergence, ANoisyPlateauOrALateDipIsConverged) {
+  // Within a point of the earlier best: noise, not a rise (0.9 < 1).
+  const auto plateau = judge_stages(scored("pretrain", {60, 90, 95.1, 94.0, 95.5, 96.0, 95.2, 96.4}));
+  EXPECT_EQ(plateau[0].verdict, TrainingVerdict::converged);
+  EXPECT_NEAR(plateau[0].rise, 0.9, 1e-12);
+  // A dip at the end is no rise either: -5 points.
+  const auto dip = judge_stages(scored("base", {50, 80, 90, 85, 84, 83}));
+  EXPECT_EQ(dip[0].verdict, TrainingVerdict::converged);
+  EXPECT_DOUBLE_EQ(dip[0].rise, -5.0);
+  // Exactly one point is rising: the threshold is inclusive.
+  EXPECT_EQ(judge_stages(scored("base", {50, 60, 61}))[0].verdict, TrainingVerdict::still_rising);
+}
+
+TEST(Convergence, ShortStagesUseHalfTheirEpochsAndOneEpochIsUnjudged) {
+  const auto two = judge_stages(scored("projector", {40, 70}));
+  EXPECT_EQ(two[0].window, 1);
+  EXPECT_EQ(two[0].verdict, TrainingVerdict::still_rising);
+  const auto one = judge_stages(scored("projector", {70}));
+  EXPECT_EQ(one[0].verdict, TrainingVerdict::unjudged);
+  EXPECT_EQ(run_verdict(one), TrainingVerdict::unjudged);
+  EXPECT_EQ(describe_stage(one[0]), "projector: 1 scored epoch, too few to judge (70.0%)");
+}
+
+TEST(Convergence, EveryScoredStageIsJudgedInOrderAndUnscoredRowsAreSkipped) {
+  std::vector<EpochLog> log = scored("pretrain", {50, 70, 80.5, 81, 81, 81});
+  log.push_back({"pseudo-incremental", 1, {{"loss", 2.0}}});  // not scored
+  for (const auto& row : scored("projector", {10, 20, 30, 40})) log.push_back(row);
+  const auto stages = judge_stages(log);
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[0].stage, "pretrain");
+  EXPECT_EQ(stages[0].verdict, TrainingVerdict::converged);
+  EXPECT_EQ(stages[1].stage, "projector");
+  EXPECT_EQ(stages[1].epochs, 4);
+  EXPECT_EQ(stages[1].verdict, TrainingVerdict::still_rising);
+  EXPECT_EQ(run_verdict(stages), TrainingVerdict::still_rising);
+  EXPECT_EQ(run_verdict(judge_stages({{"base", 1, {{"loss", 1.0}}}})), TrainingVerdict::not_recorded);
+  EXPECT_STREQ(verdict_name(TrainingVerdict::still_rising), "still rising");
+}
+
+}  // namespace
+}  // namespace fscil
