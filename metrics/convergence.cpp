@@ -43,6 +43,15 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
   return judged;
 }
 
+bool stage_has_converged(const std::vector<EpochLog>& log, const std::string& stage) {
+  for (const StageConvergence& judged : judge_stages(log)) {
+    if (judged.stage == stage) {
+      return judged.epochs >= 2 * kConvergenceWindow && judged.verdict == TrainingVerdict::converged;
+    }
+  }
+  return false;
+}
+
 TrainingVerdict run_verdict(const std::vector<StageConvergence>& stages) {
   if (stages.empty()) return TrainingVerdict::not_recorded;
   const auto any = [&](TrainingVerdict verdict) {

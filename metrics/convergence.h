@@ -34,6 +34,9 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log);
 // The run's verdict from its stages: still rising if any stage is, converged if every stage was
 // judged converged, unjudged when some could not be judged, not_recorded with no scored stage.
 TrainingVerdict run_verdict(const std::vector<StageConvergence>& stages);
+// True once `stage` of `log` has scored at least 2 x kConvergenceWindow epochs (a full window and
+// as many before it) and is judged converged: where `base_stop=converged` ends a stage.
+bool stage_has_converged(const std::vector<EpochLog>& log, const std::string& stage);
 // "converged", "still rising", "unjudged", "not recorded" (summary.csv's `training` column).
 const char* verdict_name(TrainingVerdict verdict);
 // "pretrain: +3.20 points in its last 3 of 8 epochs (61.2% -> 88.4%)".

@@ -19,6 +19,8 @@ SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params, const Su
   schedule.weight_decay = params.real("weight_decay", schedule.weight_decay, ValidRange::at_least(0));
   schedule.decay = named_choice(params, "lr_decay", schedule.decay,
                                 {{"step", LearningRateDecay::step}, {"cosine", LearningRateDecay::cosine}});
+  schedule.stop_when_converged =
+      named_choice(params, "base_stop", schedule.stop_when_converged, {{"schedule", false}, {"converged", true}});
   if (schedule.decay == LearningRateDecay::step) {
     schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step, ValidRange::at_least(1)));
     schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma, ValidRange::above_up_to(0, 1));
@@ -81,6 +83,10 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
     context.log_epoch(phase, epoch + 1, schedule.epochs,
                       {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
     if (!keep_going(epoch + 1)) break;
+    if (schedule.stop_when_converged && stage_has_converged(context.training_log, phase)) {
+      context.diagnostics[phase + "_converged_epoch"] = epoch + 1;
+      break;
+    }
   }
   return last_loss;
 }

@@ -27,9 +27,12 @@ struct SupervisedSchedule {
   LearningRateDecay decay = LearningRateDecay::step;  // lr_decay=step | cosine
   int lr_step = 40;  // epochs between decays (step only)
   double lr_gamma = 0.5;
+  // base_stop=converged: a stage that scores base validation ends once it has converged
+  // (metrics/convergence.h, stage_has_converged), `epochs` its cap; base_stop=schedule runs them all.
+  bool stop_when_converged = false;
 
-  // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_decay, and for the
-  // step decay lr_step and lr_gamma, each defaulting to `defaults`' value.
+  // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_decay, base_stop,
+  // and for the step decay lr_step and lr_gamma, each defaulting to `defaults`' value.
   static SupervisedSchedule from(const ParameterSet& params, const SupervisedSchedule& defaults);
   static SupervisedSchedule from(const ParameterSet& params) { return from(params, SupervisedSchedule()); }
   // The learning rate of optimiser step `step` (0-based) of epoch `epoch` (0-based), of
@@ -58,7 +61,8 @@ using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, con
 // Epochs of shuffled mini-batches over `data` with the schedule's optimiser and step decay,
 // minimising `batch_loss` over `parameters`. Modules must already be in the wanted mode. Each
 // epoch is logged (RunContext::log_epoch), then `after_epoch` is called with its 1-based number.
-// Returns the mean loss of the last epoch.
+// Under stop_when_converged the stage ends once the base validation `after_epoch` records has
+// converged (diagnostic `<phase>_converged_epoch`). Returns the mean loss of the last epoch.
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                     const std::function<void(int)>& after_epoch = {});

@@ -66,5 +66,36 @@ TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWha
   }
 }
 
+// base_stop=converged ends a stage at the first epoch whose verdict is converged over a full
+// window, and until then trains exactly as the whole schedule does.
+TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstConvergedEpochAndChangesNothingBefore) {
+  const SessionData validation = tiny_validation();
+  ParameterSet params = short_training();
+  params.set("pretrain_epochs", "30");
+  params.set("lr_step", "4");
+  const auto train = [&](const ParameterSet& chosen, RunContext& context) {
+    torch::manual_seed(11);
+    const std::unique_ptr<Method> method = create_method("prototype", chosen);
+    context.validation = &validation;
+    method->train_base(tiny_base(), context);
+  };
+  RunContext whole = tiny_context(11), stopped = tiny_context(11);
+  train(params, whole);
+  ParameterSet stopping = params;
+  stopping.set("base_stop", "converged");
+  train(stopping, stopped);
+  ASSERT_EQ(whole.training_log.size(), 30u);
+  const std::size_t epochs = stopped.training_log.size();
+  ASSERT_LT(epochs, 30u) << "the tiny base never converged";
+  ASSERT_GE(epochs, 2u * kConvergenceWindow);
+  EXPECT_EQ(stopped.diagnostics.at("base_converged_epoch"), static_cast<double>(epochs));
+  for (std::size_t e = 0; e < epochs; ++e) {
+    EXPECT_EQ(stopped.training_log[e].values.at("loss"), whole.training_log[e].values.at("loss")) << e;
+    const std::vector<EpochLog> so_far(whole.training_log.begin(), whole.training_log.begin() + e + 1);
+    EXPECT_EQ(stage_has_converged(so_far, "base"), e + 1 == epochs) << "epoch " << e + 1;
+  }
+  EXPECT_EQ(run_verdict(judge_stages(stopped.training_log)), TrainingVerdict::converged);
+}
+
 }  // namespace
 }  // namespace fscil
