@@ -167,11 +167,11 @@ TEST(CopFscilSession, WithoutContextProbesPspcIsThePlainSupportMean) {
   const AfterSession after = learn(still, support);
   EXPECT_TRUE(torch::allclose(after.mu[6], after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
   EXPECT_TRUE(torch::allclose(after.mu[7], after.support_embeddings.narrow(0, 5, 5).mean(0), 1e-4, 1e-5));
-  // With probes the calibrated prototype moves away from the plain mean.
-  auto probed = train("cop-fscil", tiny_params(0, 0));
-  const AfterSession probed_after = learn(probed, support);
-  EXPECT_FALSE(
-      torch::allclose(probed_after.mu[6], probed_after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-4, 1e-5));
+  EXPECT_NEAR(still.context.diagnostics.at("pspc_effective_shots"), 5.0, 1e-5);  // uniform weights
+  // That probes move it is StabilityWeights.AnUnstableSupportSampleWeighsLessAndWeightsSumToOnePerClass's,
+  // on embeddings whose instability is known: this tiny model's embeddings reach norms near 1e5
+  // after one epoch, where the probes' weights are uniform to within the rounding of the BLAS
+  // kernel (0.14 against 0.03 without probes on an AMD EPYC with OpenBLAS's Haswell kernels).
 }
 
 TEST(CopFscilSession, ProbeCountFollowsTheInputShapeUnlessSet) {
