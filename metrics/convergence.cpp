@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace fscil {
 
@@ -14,8 +15,8 @@ StageConvergence judge(const std::string& stage, const std::vector<double>& accu
   judged.epochs = static_cast<int>(accuracy.size());
   judged.first = accuracy.front();
   judged.last = accuracy.back();
-  judged.window = std::min(kConvergenceWindow, judged.epochs / 2);
-  if (judged.window == 0) return judged;
+  if (judged.epochs < 2 * kConvergenceWindow) return judged;
+  judged.window = kConvergenceWindow;
   const auto split = accuracy.end() - judged.window;
   judged.rise = *std::max_element(split, accuracy.end()) - *std::max_element(accuracy.begin(), split);
   judged.verdict = judged.rise >= kStillRisingPoints ? TrainingVerdict::still_rising : TrainingVerdict::converged;
@@ -29,7 +30,7 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
   std::vector<std::vector<double>> accuracy;
   for (const EpochLog& row : log) {
     const auto scored = row.values.find(kBaseValidationKey);
-    if (scored == row.values.end()) continue;
+    if (scored == row.values.end() || std::isnan(scored->second)) continue;
     const auto known = std::find(stages.begin(), stages.end(), row.stage);
     if (known == stages.end()) {
       stages.push_back(row.stage);
@@ -46,7 +47,7 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
 bool stage_has_converged(const std::vector<EpochLog>& log, const std::string& stage) {
   for (const StageConvergence& judged : judge_stages(log)) {
     if (judged.stage == stage) {
-      return judged.epochs >= 2 * kConvergenceWindow && judged.verdict == TrainingVerdict::converged;
+      return judged.verdict == TrainingVerdict::converged;
     }
   }
   return false;
@@ -74,10 +75,10 @@ const char* verdict_name(TrainingVerdict verdict) {
 
 std::string describe_stage(const StageConvergence& stage) {
   if (stage.verdict == TrainingVerdict::unjudged) {
-    return fmt::format("{}: {} scored epoch, too few to judge ({:.1f}%)", stage.stage, stage.epochs, stage.last);
+    return fmt::format("{}: {} scored epochs, too few to judge ({:.1f}%)", stage.stage, stage.epochs, stage.last);
   }
-  return fmt::format("{}: {:+.2f} points in its last {} of {} epochs ({:.1f}% -> {:.1f}%)", stage.stage, stage.rise,
-                     stage.window, stage.epochs, stage.first, stage.last);
+  return fmt::format("{}: best of its last {} of {} epochs {:+.2f} points against the best before ({:.1f}% -> {:.1f}%)",
+                     stage.stage, stage.window, stage.epochs, stage.rise, stage.first, stage.last);
 }
 
 }  // namespace fscil

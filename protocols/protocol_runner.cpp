@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 
 #include "datasets/log_mel_extractor.h"
 #include "metrics/context_dispersion.h"
@@ -16,19 +17,18 @@ namespace fscil {
 
 namespace {
 
-// Whether the base training had finished (metrics/convergence.h): the largest rise of a stage's
-// base validation over its last epochs as the `base_validation_rise` diagnostic, and the verdict
-// as a progress note.
+// Whether the base training had finished (metrics/convergence.h): the largest rise of a judged
+// stage as the `base_validation_rise` diagnostic, and the verdict as a progress note.
 void note_training_verdict(SessionOutcome& outcome, ProgressReporter* progress) {
   const std::vector<StageConvergence> stages = judge_stages(outcome.training_log);
   if (stages.empty()) return;
-  double rise = stages.front().rise;
+  std::optional<double> rise;
   std::vector<std::string> described;
   for (const auto& stage : stages) {
-    rise = std::max(rise, stage.rise);
+    if (stage.verdict != TrainingVerdict::unjudged) rise = std::max(rise.value_or(stage.rise), stage.rise);
     described.push_back(describe_stage(stage));
   }
-  outcome.diagnostics["base_validation_rise"] = rise;
+  if (rise) outcome.diagnostics["base_validation_rise"] = *rise;
   if (progress != nullptr) {
     progress->note(fmt::format("training {} ({})", verdict_name(run_verdict(stages)), fmt::join(described, "; ")));
   }

@@ -70,12 +70,18 @@ std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& 
   return notes;
 }
 
-std::string unfinished_warning(const SummaryTable& table) {
-  std::vector<const SummaryRow*> rows;
-  for (const auto& row : table.rows) rows.push_back(&row);
+std::string unfinished_warning(const std::vector<RunRecord>& records) {
   std::string out;
-  for (const auto& note : unfinished_notes(rows)) {
-    out += fmt::format("warning: base training still rising when its schedule ended, not at its plateau: {}\n", note);
+  for (const RunRecord& record : records) {
+    if (record.sessions.empty()) continue;
+    std::string label = record.method;
+    if (const std::string cell = grid_cell_name(record.grid); !cell.empty()) label += " [" + cell + "]";
+    for (const StageConvergence& stage : judge_stages(record.sessions.front().training_log)) {
+      if (stage.verdict != TrainingVerdict::still_rising) continue;
+      out += fmt::format("warning: {}, seed {}: a base stage ended still rising on base validation, not at its "
+                         "plateau: {}\n",
+                         label, record.seed, describe_stage(stage));
+    }
   }
   return out;
 }

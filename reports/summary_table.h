@@ -53,12 +53,13 @@ std::string row_label(const SummaryRow& row);
 // The base training's verdict over seeds: still rising if any seed's is; converged if every
 // seed's is; otherwise unjudged, or not recorded where no seed's log scored base validation.
 TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts);
-// The rows of `rows` whose base training was still rising, each note as "method (cell), seed N,
+// The rows of `rows` whose base training was still rising, each note as "method [cell], seed N,
 // stage: ..." for a table's footnote; empty when every row finished.
 std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows);
-// "warning: ..." lines naming every run of `table` whose base training was still rising (check and
-// report --paper print them: such a number was not measured at its plateau); empty when none.
-std::string unfinished_warning(const SummaryTable& table);
+// "warning: ..." lines naming every run of `records` with a base stage that ended still rising
+// (check and report --paper print them: such a number was not measured at its plateau); empty
+// when none. Judged run by run, so it never refuses what summarize_runs would.
+std::string unfinished_warning(const std::vector<RunRecord>& records);
 
 // Groups records by (method, dataset, sweep cell, selection). Throws ReportError when runs of one group disagree on
 // the number of sessions or repeat a seed, and when some runs were scored on the test split and

@@ -72,13 +72,13 @@ std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus
 }
 
 // A row whose base training was still rising is marked, and its footnote says by how much.
-std::string marked_label(const SummaryRow& row, const char* dagger) {
-  return row.training == TrainingVerdict::still_rising ? row_label(row) + dagger : row_label(row);
+std::string marked_label_suffix(const SummaryRow& row, const char* dagger) {
+  return row.training == TrainingVerdict::still_rising ? dagger : "";
 }
 
 constexpr const char* kUnfinishedNote =
-    "still rising when its schedule ended (base validation, the best of its last epochs against the best "
-    "before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau";
+    "a base stage ended still rising on base validation (the best of its last 3 epochs at least a point above "
+    "the best before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau";
 
 std::string grid_value(const SummaryRow& row, const std::string& key) {
   const auto found = row.grid.find(key);
@@ -154,7 +154,7 @@ std::string render_latex(const SummaryTable& table) {
     out += " & & & \\\\\n\\midrule\n";
     for (const auto* row : rows) {
       for (const auto& key : grid_keys) out += latex_text(grid_value(*row, key)) + " & ";
-      out += latex_text(row_label(*row)) + (row->training == TrainingVerdict::still_rising ? "$^\\dagger$" : "");
+      out += latex_text(row_label(*row)) + marked_label_suffix(*row, "$^\\dagger$");
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
         out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
@@ -190,7 +190,7 @@ std::string render_markdown(const SummaryTable& table) {
     for (const auto* row : rows) {
       out += "|";
       for (const auto& key : grid_keys) out += fmt::format(" {} |", grid_value(*row, key));
-      out += fmt::format(" {} |", marked_label(*row, " †"));
+      out += fmt::format(" {}{} |", row_label(*row), marked_label_suffix(*row, " †"));
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, " ± ");
         out += is_best(column, *row, rows) ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);

@@ -64,7 +64,8 @@ void AdbsMethod::train_base(const SessionData& base, RunContext& context) {
 }
 
 // The reference keeps the base epoch that scores best on the test split (fscil_trainer.py
-// L86-L94), with the trained rows and |m_c|; here only under --selection, on what it names.
+// L86-L94), with the trained rows and |m_c|; here only under --selection, on what it names
+// (every epoch is scored on base validation for the training verdict).
 void AdbsMethod::consider_epoch(BestEpoch& best, int epoch, RunContext& context) {
   const std::int64_t classes = context.base_classes;
   score_base_epoch(best, "base", epoch, context, [&](const SessionData& data) {

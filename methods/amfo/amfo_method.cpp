@@ -94,7 +94,7 @@ void AmfoMethod::train_base(const SessionData& base, RunContext& context) {
   BestEpoch best({encoder_.get(), head_.get(), fusion_.get()});
   train_epochs(parameters, loss, base, settings_.base, context, "base", [&](int epoch) {
     score_base_epoch(best, "base", epoch, context,
-                             [&](const SessionData& data) { return fused_cosines(embed_rows(data.features)); });
+                     [&](const SessionData& data) { return fused_cosines(embed_rows(data.features)); });
   });
   best.restore(context, "base");
   // Every base class's Gaussian of the deep embedding (Inc_train.py L225-L248), as DSN's.

@@ -17,13 +17,15 @@ inline double top1_accuracy(const SessionData& data, const std::function<torch::
 
 // Scores the epoch just logged on base validation: its "base_validation" value, what the training
 // verdict reads (metrics/convergence.h), by what the stage trains (`logits_of`) on `part` of the
-// split (all of it by default). Nothing when the run has no validation split. Eval mode, no
-// random draws: the training is the same with or without it.
+// split (all of it by default). Nothing when that is empty. `logits_of` must score in eval mode
+// without random draws, so that the training is the same with or without it.
 inline std::optional<double> record_epoch_validation(
     RunContext& context, const std::function<torch::Tensor(const SessionData&)>& logits_of,
     const std::function<SessionData(const SessionData&)>& part = {}) {
-  if (context.validation == nullptr || context.validation->labels.size(0) == 0) return std::nullopt;
-  const double accuracy = top1_accuracy(part ? part(*context.validation) : *context.validation, logits_of);
+  if (context.validation == nullptr) return std::nullopt;
+  const SessionData scored = part ? part(*context.validation) : *context.validation;
+  if (scored.labels.size(0) == 0) return std::nullopt;
+  const double accuracy = top1_accuracy(scored, logits_of);
   context.training_log.back().values[kBaseValidationKey] = accuracy;
   return accuracy;
 }

@@ -53,7 +53,7 @@ StageWork session_work(const RunSizes& sizes, double head_steps_per_session);
 torch::optim::SGD make_schedule_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule);
 // Sets the learning rate of step `step` of `epoch` (0-based; SupervisedSchedule::rate_at).
 void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch,
-                       std::int64_t step = 0, std::int64_t steps_per_epoch = 1);
+                       std::int64_t step, std::int64_t steps_per_epoch);
 
 // The loss of one mini-batch (features and labels already gathered).
 using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;

@@ -66,11 +66,11 @@ void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
   // but never restores the best (Network.py L1147-1148, L1260-1270 at 6608340b82).
   // The projector onto the targets is the base classifier: base validation after each epoch (the
   // encoder is frozen, so its validation embeddings are computed once).
-  const torch::Tensor validation =
-      context.validation != nullptr ? embed_in_batches(encoder_, context.validation->features) : torch::Tensor();
+  const bool validated = context.validation != nullptr && context.validation->labels.size(0) > 0;
+  const torch::Tensor validation = validated ? embed_in_batches(encoder_, context.validation->features) : torch::Tensor();
   train_projector(views, base.labels, settings_.base, objective, {}, settings_.session_stop, context, "projector",
                   "projector", [&] {
-                    if (!validation.defined() || validation.size(0) == 0) return;
+                    if (!validated) return;
                     context.training_log.back().values[kBaseValidationKey] =
                         accuracy_of(validation, context.validation->labels);
                   });

@@ -157,7 +157,8 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
   encoder_->train();
   classifier_->train();
   for (int epoch = 0; epoch < settings_.pit.epochs; ++epoch) {
-    set_learning_rate(optimizer, settings_.pit, epoch);
+    // Once per epoch: the pseudo-incremental stage decays by epoch (a cosine, too, by epoch).
+    set_learning_rate(optimizer, settings_.pit, epoch, 0, 1);
     double loss_sum = 0;
     LossPartMeans epoch_means;
     for (int e = 0; e < settings_.pit_episodes; ++e) {

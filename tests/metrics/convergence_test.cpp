@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace fscil {
 namespace {
 
@@ -24,7 +26,8 @@ TEST(Convergence, RisingLastEpochsAreStillRisingByTheBestAgainstTheBestBefore) {
   EXPECT_DOUBLE_EQ(stages[0].first, 20.0);
   EXPECT_DOUBLE_EQ(stages[0].last, 80.0);
   EXPECT_EQ(run_verdict(stages), TrainingVerdict::still_rising);
-  EXPECT_EQ(describe_stage(stages[0]), "base: +9.00 points in its last 3 of 8 epochs (20.0% -> 80.0%)");
+  EXPECT_EQ(describe_stage(stages[0]),
+            "base: best of its last 3 of 8 epochs +9.00 points against the best before (20.0% -> 80.0%)");
 }
 
 TEST(Convergence, ANoisyPlateauOrALateDipIsConverged) {
@@ -37,29 +40,34 @@ TEST(Convergence, ANoisyPlateauOrALateDipIsConverged) {
   EXPECT_EQ(dip[0].verdict, TrainingVerdict::converged);
   EXPECT_DOUBLE_EQ(dip[0].rise, -5.0);
   // Exactly one point is rising: the threshold is inclusive.
-  EXPECT_EQ(judge_stages(scored("base", {50, 60, 61}))[0].verdict, TrainingVerdict::still_rising);
+  EXPECT_EQ(judge_stages(scored("base", {50, 55, 60, 58, 61, 59}))[0].verdict, TrainingVerdict::still_rising);
 }
 
-TEST(Convergence, ShortStagesUseHalfTheirEpochsAndOneEpochIsUnjudged) {
-  const auto two = judge_stages(scored("projector", {40, 70}));
-  EXPECT_EQ(two[0].window, 1);
-  EXPECT_EQ(two[0].verdict, TrainingVerdict::still_rising);
-  const auto one = judge_stages(scored("projector", {70}));
-  EXPECT_EQ(one[0].verdict, TrainingVerdict::unjudged);
-  EXPECT_EQ(run_verdict(one), TrainingVerdict::unjudged);
-  EXPECT_EQ(describe_stage(one[0]), "projector: 1 scored epoch, too few to judge (70.0%)");
+TEST(Convergence, StagesShorterThanTwoWindowsAreUnjudgedAndEmptySplitsAreSkipped) {
+  // Five epochs: a window of 3 against 2 before it would be noise.
+  const auto five = judge_stages(scored("projector", {40, 70, 80, 90, 99}));
+  EXPECT_EQ(five[0].verdict, TrainingVerdict::unjudged);
+  EXPECT_EQ(five[0].window, 0);
+  EXPECT_EQ(run_verdict(five), TrainingVerdict::unjudged);
+  EXPECT_EQ(describe_stage(five[0]), "projector: 5 scored epochs, too few to judge (99.0%)");
+  EXPECT_FALSE(stage_has_converged(scored("projector", {90, 90, 90, 90, 90}), "projector"));
+  EXPECT_TRUE(stage_has_converged(scored("projector", {90, 90, 90, 90, 90, 90}), "projector"));
+  // An epoch scored on an empty split (not a number) is left out, not judged.
+  const auto gap = judge_stages(scored("base", {50, 60, 70, std::nan(""), 80, 80, 80}));
+  EXPECT_EQ(gap[0].epochs, 6);
+  EXPECT_EQ(gap[0].verdict, TrainingVerdict::still_rising);
 }
 
 TEST(Convergence, EveryScoredStageIsJudgedInOrderAndUnscoredRowsAreSkipped) {
   std::vector<EpochLog> log = scored("pretrain", {50, 70, 80.5, 81, 81, 81});
   log.push_back({"pseudo-incremental", 1, {{"loss", 2.0}}});  // not scored
-  for (const auto& row : scored("projector", {10, 20, 30, 40})) log.push_back(row);
+  for (const auto& row : scored("projector", {10, 20, 30, 40, 50, 60})) log.push_back(row);
   const auto stages = judge_stages(log);
   ASSERT_EQ(stages.size(), 2u);
   EXPECT_EQ(stages[0].stage, "pretrain");
   EXPECT_EQ(stages[0].verdict, TrainingVerdict::converged);
   EXPECT_EQ(stages[1].stage, "projector");
-  EXPECT_EQ(stages[1].epochs, 4);
+  EXPECT_EQ(stages[1].epochs, 6);
   EXPECT_EQ(stages[1].verdict, TrainingVerdict::still_rising);
   EXPECT_EQ(run_verdict(stages), TrainingVerdict::still_rising);
   EXPECT_EQ(run_verdict(judge_stages({{"base", 1, {{"loss", 1.0}}}})), TrainingVerdict::not_recorded);

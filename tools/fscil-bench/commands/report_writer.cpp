@@ -48,9 +48,8 @@ std::filesystem::path default_paper_tables() { return reference_file("paper_tabl
 
 std::string write_paper_comparison(const std::filesystem::path& out, const std::vector<RunRecord>& records,
                                    const std::filesystem::path& paper_tables) {
-  const SummaryTable table = summarize_runs(records);
-  fmt::print(stderr, "{}", unfinished_warning(table));
-  const auto rows = compare_with_paper(table, load_paper_tables(paper_tables));
+  fmt::print(stderr, "{}", unfinished_warning(records));
+  const auto rows = compare_with_paper(summarize_runs(records), load_paper_tables(paper_tables));
   write_file_atomically(out / "paper_comparison.csv", render_paper_comparison_csv(rows));
   return render_paper_comparison_markdown(rows);
 }
