@@ -32,12 +32,12 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
     const auto scored = row.values.find(kBaseValidationKey);
     if (scored == row.values.end() || std::isnan(scored->second)) continue;
     const auto known = std::find(stages.begin(), stages.end(), row.stage);
+    const auto index = static_cast<std::size_t>(known - stages.begin());
     if (known == stages.end()) {
       stages.push_back(row.stage);
       accuracy.emplace_back();
     }
-    accuracy[static_cast<std::size_t>(std::find(stages.begin(), stages.end(), row.stage) - stages.begin())].push_back(
-        scored->second);
+    accuracy[index].push_back(scored->second);
   }
   std::vector<StageConvergence> judged;
   for (std::size_t s = 0; s < stages.size(); ++s) judged.push_back(judge(stages[s], accuracy[s]));

@@ -70,9 +70,9 @@ void OrcoMethod::train_base(const SessionData& base, RunContext& context) {
   const torch::Tensor validation = validated ? embed_in_batches(encoder_, context.validation->features) : torch::Tensor();
   train_projector(views, base.labels, settings_.base, objective, {}, settings_.session_stop, context, "projector",
                   "projector", [&] {
-                    if (!validated) return;
-                    context.training_log.back().values[kBaseValidationKey] =
-                        accuracy_of(validation, context.validation->labels);
+                    record_epoch_validation(context, [&](const SessionData&) {
+                      return project(validation).matmul(seen_targets().t());
+                    });
                   });
   phase_two_projector_ = ParameterSnapshot(*projector_);
   memory_ = ReplayMemory();
