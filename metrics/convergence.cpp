@@ -44,10 +44,10 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
   return judged;
 }
 
-bool stage_has_converged(const std::vector<EpochLog>& log, const std::string& stage) {
+bool stage_has_levelled_off(const std::vector<EpochLog>& log, const std::string& stage) {
   for (const StageConvergence& judged : judge_stages(log)) {
     if (judged.stage == stage) {
-      return judged.verdict == TrainingVerdict::converged;
+      return judged.verdict == TrainingVerdict::converged && judged.rise > -kStillRisingPoints;
     }
   }
   return false;

@@ -36,9 +36,11 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log);
 // The run's verdict from its stages: still rising if any stage is, converged if every stage was
 // judged converged, unjudged when some could not be judged, not_recorded with no scored stage.
 TrainingVerdict run_verdict(const std::vector<StageConvergence>& stages);
-// True once `stage` of `log` is judged converged (so it has scored at least 2 x kConvergenceWindow
-// epochs): where `base_stop=converged` ends a stage.
-bool stage_has_converged(const std::vector<EpochLog>& log, const std::string& stage);
+// True once `stage` of `log` has levelled off: judged converged (so it has scored at least
+// 2 x kConvergenceWindow epochs) with its window's best within kStillRisingPoints of the best
+// before, either way. Where `base_stop=converged` ends a stage: a window a point or more below the
+// best before is a dip of a noisy curve at a high learning rate, which a stop there would keep.
+bool stage_has_levelled_off(const std::vector<EpochLog>& log, const std::string& stage);
 // "converged", "still rising", "unjudged", "not recorded" (summary.csv's `training` column).
 const char* verdict_name(TrainingVerdict verdict);
 // "pretrain: best of its last 3 of 8 epochs 3.20 points above the best before (61.2% -> 88.4%)".

@@ -183,15 +183,14 @@ MethodEntry arp_entry() {
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const ArpSettings arp = ArpSettings::from(read);
-    // Every batch carries an episode's supports besides its queries; all epochs run (an early stop
-    // can only shorten them), each scored on validation when one may stop.
+    // Every batch carries an episode's supports besides its queries; ARP's own early stop can only
+    // shorten the epochs.
     StageWork base = pretraining_work(read, sizes);
     const double batches = std::ceil(static_cast<double>(sizes.base_train) / arp.base.batch_size);
     const double supports = std::min<double>(arp.way + arp.tasks, sizes.base_classes) * arp.shot;
     // The supports pass alone, a small batch: 3.8 times a sample's share of a full batch, fitted on
     // simtex, fast, seed 1 (docs/profiling.md).
-    base.trained += 3.8 * arp.base.epochs * batches * supports;
-    if (arp.base.epochs > arp.early_stop_tol + 1) base.inferred = arp.base.epochs * static_cast<double>(sizes.base_validation);
+    base.trained += 3.8 * arp.base.expected_epochs() * batches * supports;
     return std::vector<StageWork>{base, base_embedding_work(sizes, 0), session_work(sizes, 0)};
   };
   entry.profile_defaults = pretraining_profiles();

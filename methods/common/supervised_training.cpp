@@ -1,5 +1,6 @@
 #include "methods/common/supervised_training.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/named_choice.h"
@@ -33,6 +34,10 @@ double SupervisedSchedule::rate_at(int epoch, std::int64_t step, std::int64_t st
   const double steps = static_cast<double>(epochs) * static_cast<double>(steps_per_epoch);
   const double t = static_cast<double>(epoch) * static_cast<double>(steps_per_epoch) + static_cast<double>(step);
   return 0.5 * learning_rate * (1 + std::cos(M_PI * t / steps));
+}
+
+double SupervisedSchedule::expected_epochs() const {
+  return stop_when_converged ? std::min(epochs, kTypicalConvergedEpoch) : epochs;
 }
 
 torch::optim::SGD make_schedule_sgd(const std::vector<torch::Tensor>& parameters, const SupervisedSchedule& schedule) {
@@ -83,7 +88,7 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
     context.log_epoch(phase, epoch + 1, schedule.epochs,
                       {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
     if (!keep_going(epoch + 1)) break;
-    if (schedule.stop_when_converged && stage_has_converged(context.training_log, phase)) {
+    if (schedule.stop_when_converged && stage_has_levelled_off(context.training_log, phase)) {
       context.diagnostics[phase + "_converged_epoch"] = epoch + 1;
       break;
     }
@@ -110,7 +115,8 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
 }
 
 StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes) {
-  return {"pretraining", static_cast<double>(SupervisedSchedule::from(read).epochs) * static_cast<double>(sizes.base_train)};
+  const double epochs = SupervisedSchedule::from(read).expected_epochs();
+  return {"pretraining", epochs * static_cast<double>(sizes.base_train), epochs * static_cast<double>(sizes.base_validation)};
 }
 
 StageWork base_embedding_work(const RunSizes& sizes, int passes) {
@@ -125,7 +131,7 @@ StageWork session_work(const RunSizes& sizes, double head_steps_per_session) {
 std::map<std::string, ParameterDefaults> pretraining_profiles(
     const std::map<std::string, ParameterDefaults>& later_stages) {
   std::map<std::string, ParameterDefaults> profiles = {{"smoke", {{"pretrain_epochs", "3"}, {"lr_step", "2"}}},
-                                                       {"fast", {{"pretrain_epochs", "8"}, {"lr_step", "4"}}}};
+                                                       {"fast", {{"pretrain_epochs", "40"}, {"lr_step", "4"}, {"base_stop", "converged"}}}};
   for (const auto& [profile, defaults] : later_stages) {
     profiles[profile].insert(profiles[profile].end(), defaults.begin(), defaults.end());
   }

@@ -27,8 +27,8 @@ struct SupervisedSchedule {
   LearningRateDecay decay = LearningRateDecay::step;  // lr_decay=step | cosine
   int lr_step = 40;  // epochs between decays (step only)
   double lr_gamma = 0.5;
-  // base_stop=converged: a stage that scores base validation ends once it has converged
-  // (metrics/convergence.h, stage_has_converged), `epochs` its cap; base_stop=schedule runs them all.
+  // base_stop=converged: a stage that scores base validation ends once it has converged on a plateau
+  // (metrics/convergence.h, stage_has_levelled_off), `epochs` its cap; base_stop=schedule runs them all.
   bool stop_when_converged = false;
 
   // Reads pretrain_epochs, pretrain_lr, batch_size, momentum, weight_decay, lr_decay, base_stop,
@@ -38,10 +38,17 @@ struct SupervisedSchedule {
   // The learning rate of optimiser step `step` (0-based) of epoch `epoch` (0-based), of
   // `steps_per_epoch`.
   double rate_at(int epoch, std::int64_t step, std::int64_t steps_per_epoch) const;
+  // The epochs plan's estimate counts: all of them, or under stop_when_converged the epoch such
+  // stages typically stopped at (kTypicalConvergedEpoch), within the cap.
+  double expected_epochs() const;
 };
 
-// Work of the stages most methods share (MethodEntry::work): pretrain_epochs passes over the base
-// training samples; embedding the base training samples `passes` times after training (class
+// Where base_stop=converged stages stopped under the fast profile, the median over every method's
+// stopped stages on simtex and sf-instruments (docs/profiling.md): an estimate, not a schedule.
+inline constexpr int kTypicalConvergedEpoch = 12;
+
+// Work of the stages most methods share (MethodEntry::work): expected_epochs() passes over the base
+// training samples and as many scorings of base validation; embedding the base training samples `passes` times after training (class
 // rows, Gaussians) and the validation samples once; each incremental session embedding its shots
 // and taking `head_steps` optimiser steps on them.
 StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes);
@@ -78,9 +85,11 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
                         std::int64_t classes, const SupervisedSchedule& schedule, RunContext& context,
                         const std::string& phase);
 
-// How the profiles shorten this pretraining (MethodEntry::profile_defaults): epochs, and the
-// learning-rate step with them so that the decay still happens; nothing else. Then, per profile,
-// `later_stages`: how it shortens the stages a method trains after the pretraining.
+// How the profiles shorten this pretraining (MethodEntry::profile_defaults). smoke: 3 epochs, the
+// learning-rate step with them so that the decay still happens. fast: the stage runs until its base
+// validation has converged (base_stop=converged), at most 40 epochs with the rate halved every 4,
+// so that no method is judged on a training still rising (docs/methods.md, "The fast profile").
+// Then, per profile, `later_stages`: how it shortens the stages a method trains after the pretraining.
 std::map<std::string, ParameterDefaults> pretraining_profiles(
     const std::map<std::string, ParameterDefaults>& later_stages = {});
 

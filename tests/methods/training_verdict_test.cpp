@@ -6,9 +6,11 @@
 #include <map>
 #include <set>
 
+#include "methods/common/supervised_training.h"
 #include "methods/method_registry.h"
 #include "metrics/convergence.h"
 #include "core/parameter_set.h"
+#include "protocols/profiles.h"
 #include "tests/methods/tiny_base_session.h"
 
 namespace fscil {
@@ -65,10 +67,18 @@ TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWha
   }
 }
 
-// base_stop=converged ends a stage at the first epoch whose verdict is converged over a full
-// window, and until then trains exactly as the whole schedule does.
-TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstConvergedEpochAndChangesNothingBefore) {
-  const SessionData validation = tiny_validation();
+// base_stop=converged ends a stage at the first epoch at which it has levelled off (converged over
+// a full window, on a plateau), and until then trains exactly as the whole schedule does.
+TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChangesNothingBefore) {
+  // Scored on every fifth sample it trains on, the tiny base climbs to a plateau; on held-out noise
+  // (tiny_validation) its accuracy only wanders, and an early lucky epoch leaves no plateau to find.
+  torch::manual_seed(11);
+  const SessionData base = tiny_base();
+  const torch::Tensor every_fifth = torch::arange(0, base.labels.size(0), 5);
+  SessionData validation = base;
+  validation.features = base.features.gather(every_fifth);
+  validation.signals = base.signals.gather(every_fifth);
+  validation.labels = base.labels.index_select(0, every_fifth);
   ParameterSet params = short_training();
   params.set("pretrain_epochs", "30");
   params.set("lr_step", "4");
@@ -76,7 +86,7 @@ TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstConvergedEpochAndCh
     torch::manual_seed(11);
     const std::unique_ptr<Method> method = create_method("prototype", chosen);
     context.validation = &validation;
-    method->train_base(tiny_base(), context);
+    method->train_base(base, context);
   };
   RunContext whole = tiny_context(11), stopped = tiny_context(11);
   train(params, whole);
@@ -91,9 +101,29 @@ TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstConvergedEpochAndCh
   for (std::size_t e = 0; e < epochs; ++e) {
     EXPECT_EQ(stopped.training_log[e].values.at("loss"), whole.training_log[e].values.at("loss")) << e;
     const std::vector<EpochLog> so_far(whole.training_log.begin(), whole.training_log.begin() + e + 1);
-    EXPECT_EQ(stage_has_converged(so_far, "base"), e + 1 == epochs) << "epoch " << e + 1;
+    EXPECT_EQ(stage_has_levelled_off(so_far, "base"), e + 1 == epochs) << "epoch " << e + 1;
   }
   EXPECT_EQ(run_verdict(judge_stages(stopped.training_log)), TrainingVerdict::converged);
+}
+
+// The fast profile trains every base stage until it has converged, at most 40 epochs, and plan counts
+// such a stage at the epoch where they typically stopped; a fixed schedule at its length.
+TEST(TrainingVerdict, TheFastProfileStopsBaseStagesOnceConvergedAndPlanCountsTheTypicalStop) {
+  ParameterSet fast;
+  apply_profile("fast", fast);
+  const SupervisedSchedule converging = SupervisedSchedule::from(fast);
+  EXPECT_TRUE(converging.stop_when_converged);
+  EXPECT_EQ(converging.epochs, 40);
+  EXPECT_EQ(converging.lr_step, 4);
+  EXPECT_EQ(converging.expected_epochs(), kTypicalConvergedEpoch);
+  fast.set("pretrain_epochs", "8");
+  EXPECT_EQ(SupervisedSchedule::from(fast).expected_epochs(), 8);  // a cap below the typical stop
+  fast.set("base_stop", "schedule");
+  fast.set("pretrain_epochs", "40");
+  EXPECT_EQ(SupervisedSchedule::from(fast).expected_epochs(), 40);
+  ParameterSet paper;
+  apply_profile("paper", paper);
+  EXPECT_FALSE(SupervisedSchedule::from(paper).stop_when_converged);
 }
 
 }  // namespace

@@ -43,6 +43,17 @@ TEST(Convergence, ANoisyPlateauOrALateDipIsConverged) {
   EXPECT_EQ(judge_stages(scored("base", {50, 55, 60, 58, 61, 59}))[0].verdict, TrainingVerdict::still_rising);
 }
 
+TEST(Convergence, AStageLevelsOffOnAPlateauNotInADip) {
+  // The dip above is converged, but no place to stop: DSN's base on simtex (76.8% after its second
+  // epoch at a rate of 0.1, 72.5% after its sixth at 0.05) would have kept its dip.
+  EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 85, 84, 83}), "base"));
+  EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 89}), "base"));  // -1: still a dip
+  EXPECT_TRUE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 89.5}), "base"));
+  EXPECT_TRUE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 90.9}), "base"));
+  EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 91}), "base"));  // rising
+  EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 89.5}), "pretrain"));  // no such stage
+}
+
 TEST(Convergence, StagesShorterThanTwoWindowsAreUnjudgedAndEmptySplitsAreSkipped) {
   // Five epochs: a window of 3 against 2 before it would be noise.
   const auto five = judge_stages(scored("projector", {40, 70, 80, 90, 99}));
@@ -50,8 +61,8 @@ TEST(Convergence, StagesShorterThanTwoWindowsAreUnjudgedAndEmptySplitsAreSkipped
   EXPECT_EQ(five[0].window, 0);
   EXPECT_EQ(run_verdict(five), TrainingVerdict::unjudged);
   EXPECT_EQ(describe_stage(five[0]), "projector: 5 scored epochs, too few to judge (99.0%)");
-  EXPECT_FALSE(stage_has_converged(scored("projector", {90, 90, 90, 90, 90}), "projector"));
-  EXPECT_TRUE(stage_has_converged(scored("projector", {90, 90, 90, 90, 90, 90}), "projector"));
+  EXPECT_FALSE(stage_has_levelled_off(scored("projector", {90, 90, 90, 90, 90}), "projector"));
+  EXPECT_TRUE(stage_has_levelled_off(scored("projector", {90, 90, 90, 90, 90, 90}), "projector"));
   // An epoch scored on an empty split (not a number) is left out, not judged.
   const auto gap = judge_stages(scored("base", {50, 60, 70, std::nan(""), 80, 80, 80}));
   EXPECT_EQ(gap[0].epochs, 6);
