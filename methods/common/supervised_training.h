@@ -43,8 +43,9 @@ struct SupervisedSchedule {
   double expected_epochs() const;
 };
 
-// Where base_stop=converged stages stopped under the fast profile, the median over every method's
-// stopped stages on simtex and sf-instruments (docs/profiling.md): an estimate, not a schedule.
+// Where base_stop=converged stages stopped under the fast profile: the mean over every method's
+// stopped stages on simtex and sf-instruments, since plan sums times (docs/profiling.md). An
+// estimate, not a schedule.
 inline constexpr int kTypicalConvergedEpoch = 12;
 
 // Work of the stages most methods share (MethodEntry::work): expected_epochs() passes over the base

@@ -84,11 +84,12 @@ Totals totals(const std::string& method) {
 }
 
 TEST(MethodWork, PitsScAndItsCopVariantsCountTheirStagesAsTheyTrainThem) {
-  // 3 pretraining epochs of 200; 1 x 2 episodes of 6 kept and 2 mixed classes x (5 + 15); rows
-  // and validation after both stages; 2 sessions of 25 shots, 20 classifier steps each.
+  // 3 pretraining epochs of 200, each scored on the 50 validation samples; 1 x 2 episodes of 6
+  // kept and 2 mixed classes x (5 + 15); rows and validation after both stages; 2 sessions of 25
+  // shots, 20 classifier steps each.
   const Totals pits = totals("pits-sc");
   EXPECT_DOUBLE_EQ(pits.trained, 600 + 320);
-  EXPECT_DOUBLE_EQ(pits.inferred, 2 * 250 + 50);
+  EXPECT_DOUBLE_EQ(pits.inferred, 3 * 50 + 2 * 250 + 50);
   EXPECT_DOUBLE_EQ(pits.head_steps, 40);
   const auto stages = method_entry("cop-fscil/cpi").work(smoke("cop-fscil/cpi"), three_sessions());
   EXPECT_EQ(stages.front().stage, PitsScMethod::kPretrainingStage) << "cpi can continue from pits-sc's";
@@ -96,19 +97,19 @@ TEST(MethodWork, PitsScAndItsCopVariantsCountTheirStagesAsTheyTrainThem) {
   const Totals cop = totals("cop-fscil");
   EXPECT_EQ(method_entry("cop-fscil").work(smoke("cop-fscil"), three_sessions()).front().stage, "pretraining");
   EXPECT_DOUBLE_EQ(cop.trained, 600 + 320);
-  EXPECT_DOUBLE_EQ(cop.inferred, 2 * (600 + 320) + 2 * 250 + 50 * 11);
+  EXPECT_DOUBLE_EQ(cop.inferred, 2 * (600 + 320) + 3 * 50 + 2 * 250 + 50 * 11);
 }
 
 TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   const Totals prototype = totals("prototype");
   EXPECT_DOUBLE_EQ(prototype.trained, 600);
-  EXPECT_DOUBLE_EQ(prototype.inferred, 250 + 50);
+  EXPECT_DOUBLE_EQ(prototype.inferred, 3 * 50 + 250 + 50);  // validation after each epoch
   // Two masked views; assignment, 4 cached views and validation; 1 projector epoch of 2 batches;
   // sessions: 2 x 25 shots and validation, the 4 views of a memory of 50 + 25 s samples, and 10
   // projector epochs over that memory in batches of 64; a projector step is 7 head steps.
   const Totals orco = totals("orco");
   EXPECT_DOUBLE_EQ(orco.trained, 1200);
-  EXPECT_DOUBLE_EQ(orco.inferred, 200 + 800 + 50 + (50 + 50 + 4 * 75) + (50 + 50 + 4 * 100));
+  EXPECT_DOUBLE_EQ(orco.inferred, 3 * 50 + 200 + 800 + 50 + (50 + 50 + 4 * 75) + (50 + 50 + 4 * 100));
   EXPECT_DOUBLE_EQ(orco.head_steps, 7 * (2 + 10 * 2 + 10 * 2));
   // ARP: every batch of 128 carries 8 x 5 supports, at 3.8 times a sample's cost: 2 batches per epoch.
   EXPECT_DOUBLE_EQ(totals("arp").trained, 3 * (200 + 3.8 * 2 * 40));
