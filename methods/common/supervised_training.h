@@ -49,9 +49,9 @@ struct SupervisedSchedule {
 inline constexpr int kTypicalConvergedEpoch = 12;
 
 // Work of the stages most methods share (MethodEntry::work): expected_epochs() passes over the base
-// training samples and as many scorings of base validation; embedding the base training samples `passes` times after training (class
-// rows, Gaussians) and the validation samples once; each incremental session embedding its shots
-// and taking `head_steps` optimiser steps on them.
+// training samples and as many scorings of base validation; embedding the base training samples
+// `passes` times after training (class rows, Gaussians) and the validation samples once; each
+// incremental session embedding its shots and taking `head_steps` optimiser steps on them.
 StageWork pretraining_work(const ParameterSet& read, const RunSizes& sizes);
 StageWork base_embedding_work(const RunSizes& sizes, int passes = 1);
 StageWork session_work(const RunSizes& sizes, double head_steps_per_session);
@@ -88,7 +88,7 @@ double train_supervised(ResNet18Encoder& encoder, CosineClassifier& classifier, 
 
 // How the profiles shorten this pretraining (MethodEntry::profile_defaults). smoke: 3 epochs, the
 // learning-rate step with them so that the decay still happens. fast: the stage runs until its base
-// validation has converged (base_stop=converged), at most 40 epochs with the rate halved every 4,
+// validation has levelled off (base_stop=converged), at most 40 epochs with the rate halved every 4,
 // so that no method is judged on a training still rising (docs/methods.md, "The fast profile").
 // Then, per profile, `later_stages`: how it shortens the stages a method trains after the pretraining.
 std::map<std::string, ParameterDefaults> pretraining_profiles(
