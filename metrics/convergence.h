@@ -43,7 +43,7 @@ TrainingVerdict run_verdict(const std::vector<StageConvergence>& stages);
 bool stage_has_levelled_off(const std::vector<EpochLog>& log, const std::string& stage);
 // "converged", "still rising", "unjudged", "not recorded" (summary.csv's `training` column).
 const char* verdict_name(TrainingVerdict verdict);
-// "pretrain: best of its last 3 of 8 epochs 3.20 points above the best before (61.2% -> 88.4%)".
+// "pretrain: best of its last 3 of 8 epochs +3.20 points against the best before (61.2% -> 88.4%)".
 std::string describe_stage(const StageConvergence& stage);
 
 }  // namespace fscil

@@ -16,6 +16,17 @@ namespace {
 SeedStatistic statistic_of(const std::vector<double>& values) {
   return {mean_of(values), standard_deviation_of(values), confidence_half_width_95(values)};
 }
+
+// The base session's stages as the run logged them; none for a run without sessions.
+std::vector<StageConvergence> base_stages(const RunRecord& record) {
+  return record.sessions.empty() ? std::vector<StageConvergence>{} : judge_stages(record.sessions.front().training_log);
+}
+
+// "label [cell]" in a sweep, "label" outside one.
+std::string with_cell(std::string label, const std::map<std::string, std::string>& grid) {
+  if (const std::string cell = grid_cell_name(grid); !cell.empty()) label += " [" + cell + "]";
+  return label;
+}
 }  // namespace
 
 bool SummaryTable::several_seeds() const {
@@ -63,8 +74,7 @@ TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts) {
 std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows) {
   std::vector<std::string> notes;
   for (const auto* row : rows) {
-    std::string label = row_label(*row);
-    if (const std::string cell = grid_cell_name(row->grid); !cell.empty()) label += " [" + cell + "]";
+    const std::string label = with_cell(row_label(*row), row->grid);
     for (const auto& note : row->unfinished) notes.push_back(label + ", " + note);
   }
   return notes;
@@ -73,10 +83,8 @@ std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& 
 std::string unfinished_warning(const std::vector<RunRecord>& records) {
   std::string out;
   for (const RunRecord& record : records) {
-    if (record.sessions.empty()) continue;
-    std::string label = record.method;
-    if (const std::string cell = grid_cell_name(record.grid); !cell.empty()) label += " [" + cell + "]";
-    for (const StageConvergence& stage : judge_stages(record.sessions.front().training_log)) {
+    const std::string label = with_cell(record.method, record.grid);
+    for (const StageConvergence& stage : base_stages(record)) {
       if (stage.verdict != TrainingVerdict::still_rising) continue;
       out += fmt::format("warning: {}, seed {}: a base stage ended still rising on base validation, not at its "
                          "plateau: {}\n",
@@ -140,8 +148,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
       pd.push_back(summary.performance_drop);
       adr.push_back(summary.average_drop_rate);
       row.seeds.push_back(record.seed);
-      const std::vector<StageConvergence> stages =
-          record.sessions.empty() ? std::vector<StageConvergence>{} : judge_stages(record.sessions.front().training_log);
+      const std::vector<StageConvergence> stages = base_stages(record);
       verdicts.push_back(run_verdict(stages));
       for (const auto& stage : stages) {
         if (stage.verdict != TrainingVerdict::still_rising) continue;
