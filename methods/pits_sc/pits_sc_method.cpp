@@ -182,6 +182,11 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
     epoch_means.record_terms(values);
     context.log_epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, std::move(values));
     consider_epoch(best, "pseudo_incremental", epoch + 1, context);
+    // The same stop as the pretraining's (base_stop=converged), `pit_epochs` its cap.
+    if (settings_.pit.stop_when_converged && stage_has_levelled_off(context.training_log, "pseudo-incremental")) {
+      context.diagnostics["pseudo-incremental_converged_epoch"] = epoch + 1;
+      break;
+    }
   }
   best.restore(context, "pseudo_incremental");
   means.record(context.diagnostics, "pseudo_incremental");
@@ -268,7 +273,9 @@ std::vector<StageWork> pits_sc_work(const ParameterSet& read, const RunSizes& si
   pretraining.stage = pretraining_stage;
   const PitEpisodeShape episode = pit_episode_shape(settings, sizes.base_classes, sizes.total_classes() - sizes.base_classes);
   const double episode_samples = (episode.kept + episode.pairs) * episode.per_class();
-  const StageWork pseudo_incremental{"pseudo-incremental", settings.pit.epochs * settings.pit_episodes * episode_samples};
+  const double pit_epochs = settings.pit.expected_epochs();
+  const StageWork pseudo_incremental{"pseudo-incremental", pit_epochs * settings.pit_episodes * episode_samples,
+                                     pit_epochs * sizes.base_validation};
   // Rows and validation after each of the two stages.
   StageWork embeddings = base_embedding_work(sizes);
   embeddings.inferred *= 2;
@@ -284,9 +291,10 @@ MethodEntry pits_sc_entry() {
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     return pits_sc_work(read, sizes, PitsScMethod::kPretrainingStage);
   };
-  // Its pseudo-incremental stage and its sessions shortened as the pretraining is.
-  entry.profile_defaults = pretraining_profiles(
-      {{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "2"}, {"epochs_new", "20"}}}, {"fast", {{"pit_epochs", "2"}}}});
+  // Smoke shortens its pseudo-incremental stage and its sessions as it does the pretraining; fast
+  // keeps the released pit_epochs as the cap of the stage's stop (base_stop=converged).
+  entry.profile_defaults =
+      pretraining_profiles({{"smoke", {{"pit_epochs", "1"}, {"pit_episodes", "2"}, {"epochs_new", "20"}}}});
   entry.sessions_keep_embedding = true;  // sessions fine-tune the classifier only
   entry.session_only_parameters = {"epochs_new", "lr_new", "lamda_proto"};
   entry.shared_stages[PitsScMethod::kPretrainingStage] = {"pit_epochs", "pit_lr",   "pit_episodes", "pit_way",

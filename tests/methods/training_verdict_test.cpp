@@ -8,6 +8,7 @@
 
 #include "methods/common/supervised_training.h"
 #include "methods/method_registry.h"
+#include "methods/pits_sc/pits_sc_settings.h"
 #include "metrics/convergence.h"
 #include "core/parameter_set.h"
 #include "protocols/profiles.h"
@@ -124,6 +125,55 @@ TEST(TrainingVerdict, TheFastProfileStopsBaseStagesOnceConvergedAndPlanCountsThe
   ParameterSet paper;
   apply_profile("paper", paper);
   EXPECT_FALSE(SupervisedSchedule::from(paper).stop_when_converged);
+  // The pseudo-incremental stage of pits-sc (and of cop-fscil's rows) stops the same way, capped
+  // at the released 10 epochs, which plan counts in full: the cap is below the typical stop.
+  ParameterSet fast_pits;
+  apply_profile("fast", fast_pits);
+  const PitsScSettings pits = PitsScSettings::from(fast_pits);
+  EXPECT_TRUE(pits.pit.stop_when_converged);
+  EXPECT_EQ(pits.pit.epochs, 10);
+  EXPECT_EQ(pits.pit.expected_epochs(), 10);
+}
+
+// pits-sc's pseudo-incremental stage ends at its first level epoch under base_stop=converged, as
+// a pretraining does, and trains exactly as the whole stage until then.
+TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
+  torch::manual_seed(12);
+  const SessionData base = tiny_base();
+  const torch::Tensor every_fifth = torch::arange(0, base.labels.size(0), 5);
+  SessionData validation = base;
+  validation.features = base.features.gather(every_fifth);
+  validation.signals = base.signals.gather(every_fifth);
+  validation.labels = base.labels.index_select(0, every_fifth);
+  ParameterSet params = short_training();
+  params.set("pit_epochs", "24");
+  const auto pseudo_incremental_log = [&](const ParameterSet& chosen, RunContext& context) {
+    torch::manual_seed(12);
+    const std::unique_ptr<Method> method = create_method("pits-sc", chosen);
+    context.validation = &validation;
+    method->train_base(base, context);
+    std::vector<EpochLog> log;
+    for (const EpochLog& row : context.training_log) {
+      if (row.stage == "pseudo-incremental") log.push_back(row);
+    }
+    return log;
+  };
+  RunContext whole_context = tiny_context(12), stopped_context = tiny_context(12);
+  const std::vector<EpochLog> whole = pseudo_incremental_log(params, whole_context);
+  ParameterSet stopping = params;
+  stopping.set("base_stop", "converged");  // the 2-epoch pretraining is too short to stop
+  const std::vector<EpochLog> stopped = pseudo_incremental_log(stopping, stopped_context);
+  ASSERT_EQ(whole.size(), 24u);
+  ASSERT_LT(stopped.size(), 24u) << "the tiny pseudo-incremental stage never levelled off";
+  ASSERT_GE(stopped.size(), 2u * kConvergenceWindow);
+  EXPECT_EQ(stopped_context.diagnostics.at("pseudo-incremental_converged_epoch"),
+            static_cast<double>(stopped.size()));
+  for (std::size_t e = 0; e < stopped.size(); ++e) {
+    EXPECT_EQ(stopped[e].values.at("loss"), whole[e].values.at("loss")) << e;
+    EXPECT_EQ(stopped[e].values.at(kBaseValidationKey), whole[e].values.at(kBaseValidationKey)) << e;
+    const std::vector<EpochLog> so_far(whole.begin(), whole.begin() + e + 1);
+    EXPECT_EQ(stage_has_levelled_off(so_far, "pseudo-incremental"), e + 1 == stopped.size()) << "epoch " << e + 1;
+  }
 }
 
 }  // namespace
