@@ -289,29 +289,41 @@ ModelCost CopFscilMethod::inference_cost(const InputShape& input) const {
 }
 
 void CopFscilMethod::learn_session(const SessionData& support, RunContext& context) {
-  if (!components_.pspc) {
-    PitsScMethod::learn_session(support, context);
+  if (!components_.pspc && !cop_settings_.session_new_and_old) {
+    PitsScMethod::learn_session(support, context);  // session_loss=joint: PITS-SC's update
     return;
   }
   check_session_order(support);
-  const torch::Tensor shots = support.features.all();
-  const torch::Tensor encoded = encode_for_inference(shots, {});
-  const torch::Tensor encoded_probes =
-      view_probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
-  const auto [original, probes] = pspc_embeddings(encoded, encoded_probes);
-  const torch::Tensor weights =
-      stability_weights(probe_instability(original, probes, cop_settings_.pspc_instability_normalised),
-                        support.labels, cop_settings_.pspc_beta);
-  context.diagnostics["pspc_effective_shots"] = effective_shots(weights, support.labels);
-  const torch::Tensor new_means = calibrated_prototypes(original, probes, weights, support.labels,
-                                                        support.new_classes, cop_settings_.pspc_mean_of_views);
+  torch::Tensor original, new_means;
+  if (components_.pspc) {
+    const torch::Tensor shots = support.features.all();
+    const torch::Tensor encoded = encode_for_inference(shots, {});
+    const torch::Tensor encoded_probes =
+        view_probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
+    torch::Tensor probes;
+    std::tie(original, probes) = pspc_embeddings(encoded, encoded_probes);
+    const torch::Tensor weights =
+        stability_weights(probe_instability(original, probes, cop_settings_.pspc_instability_normalised),
+                          support.labels, cop_settings_.pspc_beta);
+    context.diagnostics["pspc_effective_shots"] = effective_shots(weights, support.labels);
+    new_means = calibrated_prototypes(original, probes, weights, support.labels, support.new_classes,
+                                      cop_settings_.pspc_mean_of_views);
+  } else {
+    original = embed_rows(support.features);
+    new_means = class_means(original, support.labels, support.new_classes);
+  }
   const std::int64_t old_classes = seen_classes_;
   classifier_->set_mu_rows(old_classes, new_means);
   seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());
-  const torch::Tensor old_means = stored_means_;
-  finetune_classifier_rows(classifier_, {settings().epochs_new, settings().lr_new, 0.0}, [&] {
-    return new_and_old_loss(classifier_, original, support.labels, old_means, old_classes, seen_classes_);
-  });
+  if (cop_settings_.session_new_and_old) {
+    const torch::Tensor old_means = stored_means_;
+    finetune_classifier_rows(classifier_, {settings().epochs_new, settings().lr_new, 0.0}, [&] {
+      return new_and_old_loss(classifier_, original, support.labels, old_means, old_classes, seen_classes_);
+    });
+  } else {
+    finetune_session_rows(classifier_, original, support.labels, stored_means_, seen_classes_,
+                          {settings().epochs_new, settings().lr_new, settings().lamda_proto});
+  }
   stored_means_ = torch::cat({stored_means_, new_means});
   record_row_alignment(context, old_classes);
 }
@@ -341,7 +353,7 @@ std::vector<MethodEntry> cop_fscil_entries() {
       }
       return stages;
     };
-    entry.session_only_parameters.insert({"pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
+    entry.session_only_parameters.insert({"session_loss", "pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
     // Its own values never shape PITS-SC's pretraining; where one would (CPI in pretraining, the
     // bank, PCQA), pretraining_shareable() says so and the run trains its own.
     entry.shared_stages[PitsScMethod::kPretrainingStage].merge(cop_fscil_parameter_names());
@@ -353,7 +365,7 @@ std::vector<MethodEntry> cop_fscil_entries() {
     return entry;
   };
   return {variant("cop-fscil/cpi", "CoP-FSCIL ablation: pits-sc with context-probing intervention in "
-                  "pseudo-incremental episodes", {false, false}),
+                  "pseudo-incremental episodes and the paper's L_New + L_Old sessions", {false, false}),
           variant("cop-fscil/cpi+pspc", "CoP-FSCIL ablation: CPI plus probe-stability prototype calibration in "
                   "sessions", {false, true}),
           variant("cop-fscil/cpi+pcqa", "CoP-FSCIL ablation: CPI plus the probe-conditioned quotient adapter with "

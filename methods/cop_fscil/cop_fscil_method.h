@@ -14,9 +14,11 @@ namespace fscil {
 //   map after bn0 (cpi_space=standardised) or on the dB input (raw);
 // - PCQA (optional) sits after the encoder, trained with L_CE + lambda L_PIC in both base
 //   stages, and every classification uses its output z_hat;
-// - PSPC (optional) builds each new prototype from probe-stability weights and fine-tunes with
-//   L_new over the new classes plus L_old over the old ones.
-// Without PSPC a session is PITS-SC's update; without PCQA the embedding is the encoder's.
+// - PSPC (optional) builds each new prototype from probe-stability weights; without it a new
+//   prototype is the mean support embedding;
+// - every session fine-tunes the rows with L_New over the new classes plus L_Old over the old
+//   ones (session_loss=new-old; joint is PITS-SC's update).
+// Without PCQA the embedding is the encoder's.
 class CopFscilMethod : public PitsScMethod {
  public:
   CopFscilMethod(const ParameterSet& params, CopFscilComponents components);

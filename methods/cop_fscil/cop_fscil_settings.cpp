@@ -46,6 +46,8 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
   s.pic_normalised = named_choice(params, "pic_space", s.pic_normalised, {{"normalised", true}, {"raw", false}});
 
+  s.session_new_and_old =
+      named_choice(params, "session_loss", s.session_new_and_old, {{"new-old", true}, {"joint", false}});
   s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
   s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
   s.pspc_q_from_original = named_choice(params, "pspc_q", s.pspc_q_from_original, {{"original", true}, {"own", false}});

@@ -45,6 +45,10 @@ struct CopFscilSettings {
   int pic_probes = 2;                // N_cp (ours)
   bool pic_normalised = false;       // pic_space=normalised|raw: L_PIC on unit-length embeddings
 
+  // session_loss=new-old: L_Inc = L_New + L_Old, the paper's incremental objective (Eq. 24-26) in
+  // every variant; joint: PITS-SC's cross-entropy over every seen class, as the baseline has it.
+  bool session_new_and_old = true;
+
   int pspc_probes = 0;     // N_ps; 0 = by input size: 100 for HapTex-shaped, 10 for LMT108-shaped (paper)
   double pspc_beta = 8.0;  // paper
   bool pspc_q_from_original = true;       // pspc_q=original|own: probes mapped with Q_i from z_i^(0) (paper)

@@ -120,7 +120,7 @@ TEST(CopFscilVariants, CpiActsOnlyInPseudoIncrementalEpisodes) {
   auto pits_episodes = train("pits-sc", tiny_params(1, 0));
   auto cpi_episodes = train("cop-fscil/cpi", tiny_params(1, 0));
   EXPECT_FALSE(torch::equal(logits_on_fixed_probe(*pits_episodes.method), logits_on_fixed_probe(*cpi_episodes.method)));
-  // Without PSPC a session is pits-sc's: new rows start at the mean support embedding.
+  // Without PSPC a new row starts at the mean support embedding, as in pits-sc.
   auto cpi_session = train("cop-fscil/cpi", tiny_params(1, 0));
   const AfterSession after = learn(cpi_session, tiny_support(6));
   EXPECT_TRUE(torch::allclose(after.mu[6], after.support_embeddings.narrow(0, 0, 5).mean(0), 1e-5, 1e-6));
@@ -154,6 +154,35 @@ TEST(CopFscilVariants, PspcChangesOnlySessionsAndPcqaChangesTheEmbedding) {
   const auto projection = as_cop(*pcqa.method).adapter()->project(as_cop(*pcqa.method).adapter()->reflections_of(z), z);
   EXPECT_TRUE(torch::allclose(z_hat, projection.quotient, 1e-5, 1e-6));
   EXPECT_EQ(projection.invariant.size(1), 192);
+}
+
+// The ablation adds one thing per row: every variant, with PSPC or without, fine-tunes its
+// sessions by session_loss (the paper's L_New + L_Old by default); `joint` is PITS-SC's update,
+// to the bit.
+TEST(CopFscilSession, EveryVariantFollowsTheSessionLossAndJointIsPitsScs) {
+  // Untrained (no pretraining, no episodes: every base is pits-sc's), so that embeddings have norms
+  // near 1 and 5 steps move the rows (this tiny model's trained embeddings reach norms near 1e5,
+  // where a cosine's gradient is nil).
+  ParameterSet new_old = tiny_params(0, 5);
+  new_old.set("pretrain_epochs", "0");
+  ParameterSet joint = new_old;
+  joint.set("session_loss", "joint");
+  const SessionData support = tiny_support(6);
+  // The stochastic classifier's draws come from torch's generator: each session starts from the same state.
+  auto pits = train("pits-sc", new_old);
+  torch::manual_seed(21);
+  pits.method->learn_session(support, pits.context);
+  const torch::Tensor pits_rows = dynamic_cast<PitsScMethod&>(*pits.method).classifier()->mu.detach();
+  for (const std::string name : {"cop-fscil/cpi", "cop-fscil/cpi+pspc"}) {
+    auto with_new_old = train(name, new_old);
+    auto with_joint = train(name, joint);
+    torch::manual_seed(21);
+    const torch::Tensor new_old_rows = learn(with_new_old, support).mu;
+    torch::manual_seed(21);
+    const torch::Tensor joint_rows = learn(with_joint, support).mu;
+    EXPECT_GT((new_old_rows - joint_rows).abs().max().item<double>(), 1e-3) << name;
+    if (name == "cop-fscil/cpi") EXPECT_TRUE(torch::equal(joint_rows, pits_rows));
+  }
 }
 
 TEST(CopFscilSession, WithoutContextProbesPspcIsThePlainSupportMean) {
