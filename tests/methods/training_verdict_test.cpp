@@ -146,7 +146,7 @@ TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLe
   validation.signals = base.signals.gather(every_fifth);
   validation.labels = base.labels.index_select(0, every_fifth);
   ParameterSet params = short_training();
-  params.set("pit_epochs", "24");
+  params.set("pit_epochs", "12");
   const auto pseudo_incremental_log = [&](const ParameterSet& chosen, RunContext& context) {
     torch::manual_seed(12);
     const std::unique_ptr<Method> method = create_method("pits-sc", chosen);
@@ -163,8 +163,8 @@ TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLe
   ParameterSet stopping = params;
   stopping.set("base_stop", "converged");  // the 2-epoch pretraining is too short to stop
   const std::vector<EpochLog> stopped = pseudo_incremental_log(stopping, stopped_context);
-  ASSERT_EQ(whole.size(), 24u);
-  ASSERT_LT(stopped.size(), 24u) << "the tiny pseudo-incremental stage never levelled off";
+  ASSERT_EQ(whole.size(), 12u);
+  ASSERT_LT(stopped.size(), 12u) << "the tiny pseudo-incremental stage never levelled off";
   ASSERT_GE(stopped.size(), 2u * kConvergenceWindow);
   EXPECT_EQ(stopped_context.diagnostics.at("pseudo-incremental_converged_epoch"),
             static_cast<double>(stopped.size()));
