@@ -25,7 +25,8 @@ void CopFscilMethod::build_network(RunContext& context) {
   if (!components_.pcqa) return;
   const std::int64_t dim = encoder_->embedding_size();
   adapter_ = QuotientAdapter(
-      QuotientAdapterOptions{dim, cop_settings_.reflections, dim - cop_settings_.sensitive_dim_for(dim)});
+      QuotientAdapterOptions{dim, cop_settings_.reflections, dim - cop_settings_.sensitive_dim_for(dim),
+                             cop_settings_.hidden});
 }
 
 std::vector<torch::Tensor> CopFscilMethod::network_parameters() {
@@ -243,6 +244,10 @@ std::pair<torch::Tensor, torch::Tensor> CopFscilMethod::pspc_embeddings(const to
 
 void CopFscilMethod::train_base(const SessionData& base, RunContext& context) {
   PitsScMethod::train_base(base, context);
+  if (components_.pcqa && context.validation != nullptr) {
+    context.diagnostics["pcqa_dropped_off_fixed_channels"] =
+        adapter_->dropped_share_off_fixed_channels(embed_in_batches(encoder_, context.validation->features));
+  }
   auto state = std::make_shared<BaseState>();
   state->classifier = ParameterSnapshot(*classifier_);
   state->stored_means = stored_means_.clone();

@@ -42,6 +42,7 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.reflections = params.integer("pcqa_reflections", s.reflections, ValidRange::at_least(1));
   s.invariant_fraction = params.real("pcqa_invariant_fraction", s.invariant_fraction, ValidRange::above_up_to(0, 1));
   s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim, ValidRange::at_least(0));
+  s.hidden = params.integer("pcqa_hidden", s.hidden, ValidRange::at_least(0));
   s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
   s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
   s.pic_normalised = named_choice(params, "pic_space", s.pic_normalised, {{"normalised", true}, {"raw", false}});

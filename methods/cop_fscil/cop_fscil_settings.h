@@ -41,6 +41,7 @@ struct CopFscilSettings {
   std::int64_t reflections = 8;      // pcqa_reflections, m (ours)
   double invariant_fraction = 0.75;  // pcqa_invariant_fraction, d_inv / D (ours)
   std::int64_t sensitive_dim = 0;    // pcqa_sensitive_dim, d_sen; 0 = D - d_inv from the fraction
+  std::int64_t hidden = 0;           // pcqa_hidden, g's hidden width; 0 = D (ours)
   double pic_weight = 0.1;           // lambda of L_PIC (paper)
   int pic_probes = 2;                // N_cp (ours)
   bool pic_normalised = false;       // pic_space=normalised|raw: L_PIC on unit-length embeddings

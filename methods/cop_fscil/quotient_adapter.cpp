@@ -11,6 +11,10 @@ torch::Tensor reflect(const torch::Tensor& v, const torch::Tensor& x) {
   return x - scale * v;
 }
 
+std::int64_t hidden_width(const QuotientAdapterOptions& options) {
+  return options.hidden > 0 ? options.hidden : options.dim;
+}
+
 }  // namespace
 
 torch::Tensor apply_q(const torch::Tensor& reflections, const torch::Tensor& x) {
@@ -27,8 +31,8 @@ torch::Tensor apply_q_transpose(const torch::Tensor& reflections, const torch::T
 
 QuotientAdapterImpl::QuotientAdapterImpl(const QuotientAdapterOptions& options)
     : options_(options),
-      hidden_(register_module("hidden", torch::nn::Linear(options.dim, options.dim))),
-      output_(register_module("output", torch::nn::Linear(options.dim, options.reflections * options.dim))) {
+      hidden_(register_module("hidden", torch::nn::Linear(options.dim, hidden_width(options)))),
+      output_(register_module("output", torch::nn::Linear(hidden_width(options), options.reflections * options.dim))) {
   TORCH_CHECK(options.invariant_dim > 0 && options.invariant_dim <= options.dim, "invariant_dim must be in [1, dim]");
 }
 
@@ -45,6 +49,22 @@ QuotientAdapterImpl::Projection QuotientAdapterImpl::project(const torch::Tensor
       {projection.invariant, torch::zeros({z.size(0), options_.dim - options_.invariant_dim}, z.options())}, 1);
   projection.quotient = apply_q_transpose(reflections, kept);
   return projection;
+}
+
+double QuotientAdapterImpl::dropped_share_off_fixed_channels(const torch::Tensor& originals) {
+  torch::NoGradGuard no_grad;
+  const std::int64_t dim = options_.dim, sensitive = dim - options_.invariant_dim;
+  if (sensitive == 0 || originals.size(0) == 0) return 0.0;
+  const torch::Tensor basis = torch::eye(dim, originals.options()).narrow(0, options_.invariant_dim, sensitive);
+  constexpr std::int64_t chunk = 32;  // bounds the chunk x d_sen x m x D repeated reflections
+  double overlap = 0;
+  for (std::int64_t first = 0; first < originals.size(0); first += chunk) {
+    const std::int64_t n = std::min(chunk, originals.size(0) - first);
+    const torch::Tensor reflections = reflections_of(originals.narrow(0, first, n));
+    const torch::Tensor moved = apply_q_transpose(reflections.repeat_interleave(sensitive, 0), basis.repeat({n, 1}));
+    overlap += moved.narrow(1, options_.invariant_dim, sensitive).pow(2).sum().item<double>();
+  }
+  return 1.0 - overlap / static_cast<double>(sensitive * originals.size(0));
 }
 
 void QuotientAdapterImpl::count_cost(ModelCost& cost, const std::string& name) const {

@@ -18,10 +18,11 @@ struct QuotientAdapterOptions {
   std::int64_t dim = 256;
   std::int64_t reflections = 8;        // m
   std::int64_t invariant_dim = 192;    // d_inv = D - d_sen
+  std::int64_t hidden = 0;             // g's hidden width; 0 = D
 };
 
 // PCQA, the probe-conditioned quotient adapter of CoP-FSCIL: an observation network
-// g = Linear(D, D) - ReLU - Linear(D, m D) predicts m reflection vectors from the original
+// g = Linear(D, H) - ReLU - Linear(H, m D) (H = D unless set) predicts m reflection vectors from the original
 // sample's embedding z0; p = Q z splits into [p_inv; p_sen] and z_hat = Q^T [p_inv; 0].
 class QuotientAdapterImpl : public torch::nn::Module {
  public:
@@ -37,6 +38,10 @@ class QuotientAdapterImpl : public torch::nn::Module {
   torch::Tensor forward(const torch::Tensor& z) { return project(reflections_of(z), z).quotient; }
 
   const QuotientAdapterOptions& options() const { return options_; }
+  // How far Q moves what it drops away from the fixed last D - d_inv coordinates: per sample
+  // 1 - |E^T Q^T E|_F^2 / d_sen, E those coordinates' basis, averaged over the samples of
+  // `originals` (N x D). 0 when PCQA drops fixed encoder channels, 1 when none of them.
+  double dropped_share_off_fixed_channels(const torch::Tensor& originals);
   // Adds forward()'s cost for one embedding: the observation network, then Q and Q^T.
   void count_cost(ModelCost& cost, const std::string& name) const;
 

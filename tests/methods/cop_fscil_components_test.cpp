@@ -50,6 +50,30 @@ TEST(QuotientAdapter, KeepsTheInvariantBlockAndDropsTheSensitiveOne) {
   EXPECT_TRUE(torch::allclose(projection.quotient.norm(2, 1), projection.invariant.norm(2, 1), 1e-4, 1e-5));
 }
 
+// With m reflections Q is the identity outside span(v_1..v_m), so at most m of the d_sen dropped
+// directions can leave the fixed last coordinates; m >= d_sen can move them all. g's hidden width
+// sets its size.
+TEST(QuotientAdapter, FewReflectionsDropMostlyFixedCoordinatesAndTheHiddenWidthSetsGsSize) {
+  torch::manual_seed(3);
+  const torch::Tensor z = torch::randn({40, 16});
+  QuotientAdapter few(QuotientAdapterOptions{16, 1, 8});  // d_sen 8, one reflection
+  const double off = few->dropped_share_off_fixed_channels(z);
+  EXPECT_GT(off, 0.0);
+  EXPECT_LE(off, 1.0 / 8 + 1e-6);  // one of the eight directions at most
+  QuotientAdapter many(QuotientAdapterOptions{16, 8, 8});
+  EXPECT_GT(many->dropped_share_off_fixed_channels(z), off);
+  QuotientAdapter none(QuotientAdapterOptions{16, 8, 16});  // nothing dropped
+  EXPECT_EQ(none->dropped_share_off_fixed_channels(z), 0.0);
+
+  const auto parameters = [](const QuotientAdapter& adapter) {
+    std::int64_t count = 0;
+    for (const auto& p : adapter->parameters()) count += p.numel();
+    return count;
+  };
+  EXPECT_EQ(parameters(many), (16 * 16 + 16) + (16 * 8 * 16 + 8 * 16));  // hidden width D
+  EXPECT_EQ(parameters(QuotientAdapter(QuotientAdapterOptions{16, 8, 8, 4})), (16 * 4 + 4) + (4 * 8 * 16 + 8 * 16));
+}
+
 TEST(ProbeInvarianceLoss, SendsNoGradientThroughTheProbeBranch) {
   const torch::Tensor original = torch::randn({4, 3}, torch::requires_grad());
   const torch::Tensor probes = torch::randn({2, 4, 3}, torch::requires_grad());
