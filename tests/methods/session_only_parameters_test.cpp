@@ -83,7 +83,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"pits-sc", kPitsBase, kPitsSession},
         Case{"cop-fscil", kPitsBase,
              with(kPitsSession, {{"pspc_probes", "3"}, {"pspc_beta", "2.5"}, {"pspc_q", "own"},
-                                 {"pspc_instability", "raw"}, {"pspc_mean", "views"}})},
+                                 {"pspc_instability", "raw"}, {"pspc_mean", "views"}, {"session_loss", "joint"}})},
         Case{"orco",
              {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"orco_base_epochs", "2"}, {"orco_views", "2"},
               {"orco_target_steps", "50"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"},

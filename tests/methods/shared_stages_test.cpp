@@ -180,9 +180,9 @@ INSTANTIATE_TEST_SUITE_P(
                    {"cpi_references", "same"}, {"cpi_mix_alpha", "0.4"}, {"cpi_support_coverage", "0.3"},
                    {"cpi_query_coverage", "0.7"}, {"cpi_kept", "split"}, {"cpi_bn_statistics", "guarded"},
                    {"pcqa_reflections", "3"}, {"pcqa_invariant_fraction", "0.5"}, {"pcqa_sensitive_dim", "3"},
-                   {"pic_weight", "0.5"}, {"pic_probes", "3"}, {"pic_space", "normalised"}, {"pspc_probes", "3"},
+                   {"pcqa_hidden", "5"}, {"pic_weight", "0.5"}, {"pic_probes", "3"}, {"pic_space", "normalised"}, {"pspc_probes", "3"},
                    {"pspc_beta", "2.5"}, {"pspc_q", "own"}, {"pspc_instability", "raw"},
-                   {"pspc_mean", "views"}}),
+                   {"pspc_mean", "views"}, {"session_loss", "joint"}}),
              {"cpi_space", "cpi_bank", "cpi_pretrain_coverage"}}),
     [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
 
