@@ -68,43 +68,74 @@ TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWha
   }
 }
 
-// base_stop=converged ends a stage at the first epoch at which it has levelled off (converged over
-// a full window, on a plateau), and until then trains exactly as the whole schedule does.
-TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChangesNothingBefore) {
-  // Scored on every fifth sample it trains on, the tiny base climbs to a plateau; on held-out noise
-  // (tiny_validation) its accuracy only wanders, and an early lucky epoch leaves no plateau to find.
-  torch::manual_seed(11);
-  const SessionData base = tiny_base();
+// Every fifth sample of `base`: scored on samples it trains on, the tiny base climbs to a plateau;
+// on held-out noise (tiny_validation) its accuracy only wanders, and an early lucky epoch leaves no
+// plateau to find.
+SessionData every_fifth_sample(const SessionData& base) {
   const torch::Tensor every_fifth = torch::arange(0, base.labels.size(0), 5);
-  SessionData validation = base;
-  validation.features = base.features.gather(every_fifth);
-  validation.signals = base.signals.gather(every_fifth);
-  validation.labels = base.labels.index_select(0, every_fifth);
+  SessionData part = base;
+  part.features = base.features.gather(every_fifth);
+  part.signals = base.signals.gather(every_fifth);
+  part.labels = base.labels.index_select(0, every_fifth);
+  return part;
+}
+
+// `stage`'s epochs in the log of `method`'s base session on the tiny base, scored on every fifth
+// of its samples, from seed `seed`; `converged` sets base_stop=converged.
+struct StageRun {
+  std::vector<EpochLog> epochs;
+  std::map<std::string, double> diagnostics;
+};
+StageRun stage_run(const std::string& method, ParameterSet params, const std::string& stage, bool converged,
+                   std::uint64_t seed) {
+  torch::manual_seed(seed);
+  const SessionData base = tiny_base();
+  const SessionData validation = every_fifth_sample(base);
+  if (converged) params.set("base_stop", "converged");
+  RunContext context = tiny_context(seed);
+  context.validation = &validation;
+  torch::manual_seed(seed);
+  create_method(method, params)->train_base(base, context);
+  StageRun run{{}, context.diagnostics};
+  for (const EpochLog& row : context.training_log) {
+    if (row.stage == stage) run.epochs.push_back(row);
+  }
+  return run;
+}
+
+// base_stop=converged ends `stage` at the first epoch at which it has levelled off (converged over
+// a full window, on a plateau), and until then trains exactly as the whole schedule of `cap`
+// epochs does.
+void expect_stop_at_first_level_epoch(const std::string& method, const ParameterSet& params,
+                                      const std::string& stage, std::size_t cap, std::uint64_t seed) {
+  const StageRun whole = stage_run(method, params, stage, false, seed);
+  const StageRun stopped = stage_run(method, params, stage, true, seed);
+  ASSERT_EQ(whole.epochs.size(), cap);
+  const std::size_t epochs = stopped.epochs.size();
+  ASSERT_LT(epochs, cap) << "the tiny " << stage << " stage never levelled off";
+  ASSERT_GE(epochs, 2u * kConvergenceWindow);
+  EXPECT_EQ(stopped.diagnostics.at(stage + "_converged_epoch"), static_cast<double>(epochs));
+  for (std::size_t e = 0; e < epochs; ++e) {
+    EXPECT_EQ(stopped.epochs[e].values.at("loss"), whole.epochs[e].values.at("loss")) << e;
+    EXPECT_EQ(stopped.epochs[e].values.at(kBaseValidationKey), whole.epochs[e].values.at(kBaseValidationKey)) << e;
+    const std::vector<EpochLog> so_far(whole.epochs.begin(), whole.epochs.begin() + e + 1);
+    EXPECT_EQ(stage_has_levelled_off(so_far, stage), e + 1 == epochs) << "epoch " << e + 1;
+  }
+  EXPECT_EQ(run_verdict(judge_stages(stopped.epochs)), TrainingVerdict::converged);
+}
+
+TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChangesNothingBefore) {
   ParameterSet params = short_training();
   params.set("pretrain_epochs", "30");
   params.set("lr_step", "4");
-  const auto train = [&](const ParameterSet& chosen, RunContext& context) {
-    torch::manual_seed(11);
-    const std::unique_ptr<Method> method = create_method("prototype", chosen);
-    context.validation = &validation;
-    method->train_base(base, context);
-  };
-  RunContext whole = tiny_context(11), stopped = tiny_context(11);
-  train(params, whole);
-  ParameterSet stopping = params;
-  stopping.set("base_stop", "converged");
-  train(stopping, stopped);
-  ASSERT_EQ(whole.training_log.size(), 30u);
-  const std::size_t epochs = stopped.training_log.size();
-  ASSERT_LT(epochs, 30u) << "the tiny base never converged";
-  ASSERT_GE(epochs, 2u * kConvergenceWindow);
-  EXPECT_EQ(stopped.diagnostics.at("base_converged_epoch"), static_cast<double>(epochs));
-  for (std::size_t e = 0; e < epochs; ++e) {
-    EXPECT_EQ(stopped.training_log[e].values.at("loss"), whole.training_log[e].values.at("loss")) << e;
-    const std::vector<EpochLog> so_far(whole.training_log.begin(), whole.training_log.begin() + e + 1);
-    EXPECT_EQ(stage_has_levelled_off(so_far, "base"), e + 1 == epochs) << "epoch " << e + 1;
-  }
-  EXPECT_EQ(run_verdict(judge_stages(stopped.training_log)), TrainingVerdict::converged);
+  expect_stop_at_first_level_epoch("prototype", params, "base", 30, 11);
+}
+
+// pits-sc's pseudo-incremental stage (every cop-fscil row's too) stops the same way.
+TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
+  ParameterSet params = short_training();  // its 2-epoch pretraining is too short to stop
+  params.set("pit_epochs", "12");
+  expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 12, 12);
 }
 
 // The fast profile trains every base stage until it has converged, at most 40 epochs, and plan counts
@@ -133,47 +164,6 @@ TEST(TrainingVerdict, TheFastProfileStopsBaseStagesOnceConvergedAndPlanCountsThe
   EXPECT_TRUE(pits.pit.stop_when_converged);
   EXPECT_EQ(pits.pit.epochs, 10);
   EXPECT_EQ(pits.pit.expected_epochs(), 10);
-}
-
-// pits-sc's pseudo-incremental stage ends at its first level epoch under base_stop=converged, as
-// a pretraining does, and trains exactly as the whole stage until then.
-TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
-  torch::manual_seed(12);
-  const SessionData base = tiny_base();
-  const torch::Tensor every_fifth = torch::arange(0, base.labels.size(0), 5);
-  SessionData validation = base;
-  validation.features = base.features.gather(every_fifth);
-  validation.signals = base.signals.gather(every_fifth);
-  validation.labels = base.labels.index_select(0, every_fifth);
-  ParameterSet params = short_training();
-  params.set("pit_epochs", "12");
-  const auto pseudo_incremental_log = [&](const ParameterSet& chosen, RunContext& context) {
-    torch::manual_seed(12);
-    const std::unique_ptr<Method> method = create_method("pits-sc", chosen);
-    context.validation = &validation;
-    method->train_base(base, context);
-    std::vector<EpochLog> log;
-    for (const EpochLog& row : context.training_log) {
-      if (row.stage == "pseudo-incremental") log.push_back(row);
-    }
-    return log;
-  };
-  RunContext whole_context = tiny_context(12), stopped_context = tiny_context(12);
-  const std::vector<EpochLog> whole = pseudo_incremental_log(params, whole_context);
-  ParameterSet stopping = params;
-  stopping.set("base_stop", "converged");  // the 2-epoch pretraining is too short to stop
-  const std::vector<EpochLog> stopped = pseudo_incremental_log(stopping, stopped_context);
-  ASSERT_EQ(whole.size(), 12u);
-  ASSERT_LT(stopped.size(), 12u) << "the tiny pseudo-incremental stage never levelled off";
-  ASSERT_GE(stopped.size(), 2u * kConvergenceWindow);
-  EXPECT_EQ(stopped_context.diagnostics.at("pseudo-incremental_converged_epoch"),
-            static_cast<double>(stopped.size()));
-  for (std::size_t e = 0; e < stopped.size(); ++e) {
-    EXPECT_EQ(stopped[e].values.at("loss"), whole[e].values.at("loss")) << e;
-    EXPECT_EQ(stopped[e].values.at(kBaseValidationKey), whole[e].values.at(kBaseValidationKey)) << e;
-    const std::vector<EpochLog> so_far(whole.begin(), whole.begin() + e + 1);
-    EXPECT_EQ(stage_has_levelled_off(so_far, "pseudo-incremental"), e + 1 == stopped.size()) << "epoch " << e + 1;
-  }
 }
 
 }  // namespace
