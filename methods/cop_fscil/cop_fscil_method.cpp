@@ -299,10 +299,10 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
     return;
   }
   check_session_order(support);
+  const torch::Tensor shots = support.features.all();
+  const torch::Tensor encoded = encode_for_inference(shots, {});  // z, before PCQA
   torch::Tensor original, new_means;
   if (components_.pspc) {
-    const torch::Tensor shots = support.features.all();
-    const torch::Tensor encoded = encode_for_inference(shots, {});
     const torch::Tensor encoded_probes =
         view_probe_embeddings(shots, probes_per_support_sample(context.input), context.generator);
     torch::Tensor probes;
@@ -314,9 +314,11 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
     new_means = calibrated_prototypes(original, probes, weights, support.labels, support.new_classes,
                                       cop_settings_.pspc_mean_of_views);
   } else {
-    original = embed_rows(support.features);
+    torch::NoGradGuard no_grad;  // the adapter is frozen after the base session
+    original = components_.pcqa ? adapter_->forward(encoded) : encoded;
     new_means = class_means(original, support.labels, support.new_classes);
   }
+  if (components_.pcqa) context.diagnostics["support_encoder_norm"] = encoded.norm(2, 1).mean().item<double>();
   const std::int64_t old_classes = seen_classes_;
   classifier_->set_mu_rows(old_classes, new_means);
   seen_classes_ += static_cast<std::int64_t>(support.new_classes.size());
@@ -330,7 +332,7 @@ void CopFscilMethod::learn_session(const SessionData& support, RunContext& conte
                           {settings().epochs_new, settings().lr_new, settings().lamda_proto});
   }
   stored_means_ = torch::cat({stored_means_, new_means});
-  record_row_alignment(context, old_classes);
+  record_session_geometry(context, old_classes, original);
 }
 
 std::vector<MethodEntry> cop_fscil_entries() {

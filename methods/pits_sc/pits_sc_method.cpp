@@ -209,8 +209,13 @@ void PitsScMethod::report_validation(RunContext& context, const std::string& sta
   }
 }
 
-void PitsScMethod::record_row_alignment(RunContext& context, std::int64_t old_classes) const {
+void PitsScMethod::record_session_geometry(RunContext& context, std::int64_t old_classes,
+                                           const torch::Tensor& support_embeddings) const {
   torch::NoGradGuard no_grad;
+  const torch::Tensor rows = classifier_->mu.narrow(0, 0, seen_classes_).norm(2, 1);
+  context.diagnostics["old_rows_norm"] = rows.narrow(0, 0, old_classes).mean().item<double>();
+  context.diagnostics["new_rows_norm"] = rows.narrow(0, old_classes, seen_classes_ - old_classes).mean().item<double>();
+  context.diagnostics["support_embedding_norm"] = support_embeddings.norm(2, 1).mean().item<double>();
   const torch::Tensor cosine = torch::nn::functional::cosine_similarity(
       classifier_->mu.narrow(0, 0, seen_classes_), stored_means_,
       torch::nn::functional::CosineSimilarityFuncOptions().dim(1));
@@ -233,7 +238,7 @@ void PitsScMethod::learn_session(const SessionData& support, RunContext& context
   finetune_session_rows(classifier_, embeddings, support.labels, stored_means_, seen_classes_,
                         {settings_.epochs_new, settings_.lr_new, settings_.lamda_proto});
   stored_means_ = torch::cat({stored_means_, new_means});
-  record_row_alignment(context, old_classes);
+  record_session_geometry(context, old_classes, embeddings);
 }
 
 MethodState PitsScMethod::save_state() const {

@@ -71,7 +71,10 @@ class PitsScMethod : public Method {
   // started at (the mean cosine of the `old_classes` rows seen before it, and of the new rows), in
   // the diagnostics `old_rows_cosine_to_means` and `new_rows_cosine_to_means`. Rows turning away
   // from their classes is the forgetting that fine-tuning every row on the new shots can cause.
-  void record_row_alignment(RunContext& context, std::int64_t old_classes) const;
+  // Beside them the mean norms of those rows (`old_rows_norm`, `new_rows_norm`) and of the
+  // support's embeddings as the classifier sees them (`support_embedding_norm`).
+  void record_session_geometry(RunContext& context, std::int64_t old_classes,
+                               const torch::Tensor& support_embeddings) const;
   // The first new class must follow the seen ones.
   void check_session_order(const SessionData& support) const;
 

@@ -348,6 +348,9 @@ TEST(CopFscilSession, RecordsPspcsEffectiveShotsAndTheRowsAlignment) {
   // No fine-tuning step: the rows are still the (calibrated) means the session started them at.
   EXPECT_NEAR(trained.context.diagnostics.at("old_rows_cosine_to_means"), 1.0, 1e-5);
   EXPECT_NEAR(trained.context.diagnostics.at("new_rows_cosine_to_means"), 1.0, 1e-5);
+  // PCQA drops d_sen coordinates: z_hat is shorter than the encoder's z.
+  EXPECT_LT(trained.context.diagnostics.at("support_embedding_norm"),
+            trained.context.diagnostics.at("support_encoder_norm"));
 }
 
 TEST(RunningStatisticsGuard, UndoesTheBatchNormUpdatesOfATrainingForward) {

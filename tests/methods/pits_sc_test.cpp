@@ -193,6 +193,9 @@ TEST_F(TinyPitsSc, SessionLeavesTheEncoderUnchangedAndSetsNewRowsToSupportMeans)
   // Rows that did not move still point at the class means they started from.
   EXPECT_NEAR(context.diagnostics.at("old_rows_cosine_to_means"), 1.0, 1e-5);
   EXPECT_NEAR(context.diagnostics.at("new_rows_cosine_to_means"), 1.0, 1e-5);
+  EXPECT_NEAR(context.diagnostics.at("support_embedding_norm"), embeddings.norm(2, 1).mean().item<double>(), 1e-4);
+  EXPECT_NEAR(context.diagnostics.at("new_rows_norm"), mu.narrow(0, 6, 2).norm(2, 1).mean().item<double>(), 1e-4);
+  EXPECT_NEAR(context.diagnostics.at("old_rows_norm"), mu.narrow(0, 0, 6).norm(2, 1).mean().item<double>(), 1e-4);
 }
 
 TEST_F(TinyPitsSc, FineTuningMovesSeenRowsThroughTheLossAndNeverUnseenOnes) {
