@@ -360,7 +360,8 @@ std::vector<MethodEntry> cop_fscil_entries() {
       }
       return stages;
     };
-    entry.session_only_parameters.insert({"session_loss", "pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
+    entry.session_only_parameters.insert(
+        {"session_loss", "pspc_probes", "pspc_beta", "pspc_q", "pspc_instability", "pspc_mean"});
     // Its own values never shape PITS-SC's pretraining; where one would (CPI in pretraining, the
     // bank, PCQA), pretraining_shareable() says so and the run trains its own.
     entry.shared_stages[PitsScMethod::kPretrainingStage].merge(cop_fscil_parameter_names());

@@ -22,8 +22,8 @@ struct QuotientAdapterOptions {
 };
 
 // PCQA, the probe-conditioned quotient adapter of CoP-FSCIL: an observation network
-// g = Linear(D, H) - ReLU - Linear(H, m D) (H = D unless set) predicts m reflection vectors from the original
-// sample's embedding z0; p = Q z splits into [p_inv; p_sen] and z_hat = Q^T [p_inv; 0].
+// g = Linear(D, H) - ReLU - Linear(H, m D) (H = D unless set) predicts m reflection vectors from
+// the original sample's embedding z0; p = Q z splits into [p_inv; p_sen] and z_hat = Q^T [p_inv; 0].
 class QuotientAdapterImpl : public torch::nn::Module {
  public:
   explicit QuotientAdapterImpl(const QuotientAdapterOptions& options);
