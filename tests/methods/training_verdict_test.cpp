@@ -126,16 +126,16 @@ void expect_stop_at_first_level_epoch(const std::string& method, const Parameter
 
 TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChangesNothingBefore) {
   ParameterSet params = short_training();
-  params.set("pretrain_epochs", "30");
+  params.set("pretrain_epochs", "10");  // it levels off after 6; a step decay's rates do not depend on the cap
   params.set("lr_step", "4");
-  expect_stop_at_first_level_epoch("prototype", params, "base", 30, 11);
+  expect_stop_at_first_level_epoch("prototype", params, "base", 10, 11);
 }
 
 // pits-sc's pseudo-incremental stage (every cop-fscil row's too) stops the same way.
 TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
   ParameterSet params = short_training();  // its 2-epoch pretraining is too short to stop
-  params.set("pit_epochs", "12");
-  expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 12, 12);
+  params.set("pit_epochs", "8");
+  expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, 12);
 }
 
 // The fast profile trains every base stage until it has converged, at most 40 epochs, and plan counts
