@@ -17,8 +17,8 @@ namespace fscil {
 const std::vector<Profile>& profiles() {
   static const std::vector<Profile> table = {
       {"smoke", "whole protocol in seconds per method (tests); use with simtex-mini"},
-      {"fast", "default: base stages until their base validation converges (6-40 epochs, lr halved every 4), "
-               "2 pseudo-incremental epochs"},
+      {"fast", "default: base stages until their base validation converges (6-40 epochs, lr halved every 4; "
+               "pseudo-incremental stages at most their released length)"},
       {"paper", "the paper's schedule (100/10/200 epochs of pretraining, pseudo-incremental training and "
        "session fine-tuning; lr halved every 40)"},
   };
