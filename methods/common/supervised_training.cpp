@@ -53,6 +53,13 @@ void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& s
   for (auto& group : optimizer.param_groups()) static_cast<torch::optim::SGDOptions&>(group.options()).lr(rate);
 }
 
+bool stop_once_levelled_off(const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
+                            int epoch) {
+  if (!schedule.stop_when_converged || !stage_has_levelled_off(context.training_log, phase)) return false;
+  context.diagnostics[phase + "_converged_epoch"] = epoch;
+  return true;
+}
+
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                     const std::function<void(int)>& after_epoch) {
@@ -88,10 +95,7 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
     context.log_epoch(phase, epoch + 1, schedule.epochs,
                       {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
     if (!keep_going(epoch + 1)) break;
-    if (schedule.stop_when_converged && stage_has_levelled_off(context.training_log, phase)) {
-      context.diagnostics[phase + "_converged_epoch"] = epoch + 1;
-      break;
-    }
+    if (stop_once_levelled_off(schedule, context, phase, epoch + 1)) break;
   }
   return last_loss;
 }

@@ -63,6 +63,12 @@ torch::optim::SGD make_schedule_sgd(const std::vector<torch::Tensor>& parameters
 void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& schedule, int epoch,
                        std::int64_t step, std::int64_t steps_per_epoch);
 
+// Under stop_when_converged: whether `phase` has levelled off after its epoch `epoch` (1-based) on
+// the base validation it logged (metrics/convergence.h), recording `<phase>_converged_epoch` when
+// it has. Every stage that stops by base_stop=converged asks here.
+bool stop_once_levelled_off(const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
+                            int epoch);
+
 // The loss of one mini-batch (features and labels already gathered).
 using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;
 

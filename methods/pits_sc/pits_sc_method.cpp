@@ -183,10 +183,7 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
     context.log_epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, std::move(values));
     consider_epoch(best, "pseudo_incremental", epoch + 1, context);
     // The same stop as the pretraining's (base_stop=converged), `pit_epochs` its cap.
-    if (settings_.pit.stop_when_converged && stage_has_levelled_off(context.training_log, "pseudo-incremental")) {
-      context.diagnostics["pseudo-incremental_converged_epoch"] = epoch + 1;
-      break;
-    }
+    if (stop_once_levelled_off(settings_.pit, context, "pseudo-incremental", epoch + 1)) break;
   }
   best.restore(context, "pseudo_incremental");
   means.record(context.diagnostics, "pseudo_incremental");
