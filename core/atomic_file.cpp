@@ -8,9 +8,12 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <mutex>
 #include <string_view>
+#include <vector>
 
 #include "core/number_text.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -50,6 +53,23 @@ void remove_stale_temporaries(const fs::path& folder) {
   }
 }
 
+std::mutex inputs_mutex;
+std::vector<fs::path>& inputs() {
+  static std::vector<fs::path> files;
+  return files;
+}
+
+void refuse_an_input(const fs::path& path) {
+  const std::lock_guard<std::mutex> lock(inputs_mutex);
+  for (const fs::path& input : inputs()) {
+    std::error_code error;
+    if (fs::equivalent(path, input, error)) {
+      throw FileError(fmt::format("{}: is {}, which this command reads; write to another file", path.string(),
+                                  input == path ? "an input" : "the input " + input.string()));
+    }
+  }
+}
+
 std::string system_message() { return std::strerror(errno); }
 
 void sync_file(const fs::path& path, int flags) {
@@ -79,12 +99,23 @@ void write_all(const fs::path& path, std::string_view content) {
 
 }  // namespace
 
+void require_replaceable(const fs::path& path) {
+  // Renaming over a device, a FIFO or a link would replace the node itself (/dev/full by a file).
+  std::error_code error;
+  const fs::file_status node = fs::symlink_status(path, error);
+  if (fs::is_directory(node)) throw FileError(fmt::format("{}: is a directory, a file was expected", path.string()));
+  if (fs::exists(node) && !fs::is_regular_file(node)) {
+    throw FileError(fmt::format("{}: is {}; fscil-bench writes only regular files", path.string(), kind_of_node(node)));
+  }
+  refuse_an_input(path);
+}
+
 void replace_file_atomically(const fs::path& path, const std::function<void(const fs::path& temporary)>& write) {
   const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
   std::error_code error;
   fs::create_directories(folder, error);
   if (error) throw FileError(fmt::format("{}: cannot create its folder ({})", path.string(), error.message()));
-  if (fs::is_directory(path, error)) throw FileError(fmt::format("{}: is a directory, a file was expected", path.string()));
+  require_replaceable(path);
   remove_stale_temporaries(folder);
   const fs::path temporary = path.string() + temporary_marker() + std::to_string(::getpid());
   try {
@@ -99,6 +130,11 @@ void replace_file_atomically(const fs::path& path, const std::function<void(cons
     throw;
   }
   sync_file(folder, O_RDONLY | O_DIRECTORY);
+}
+
+void never_replace(const fs::path& input) {
+  const std::lock_guard<std::mutex> lock(inputs_mutex);
+  inputs().push_back(input);
 }
 
 void write_file_atomically(const fs::path& path, const std::string& content) {

@@ -219,12 +219,15 @@ PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& reque
                                    "and lay it out as {}", entry.name, entry.where, entry.layout));
   }
   if (!fs::is_directory(request.data_root)) {
-    throw DatasetError(fmt::format("--data-root {}: no such directory (expected {})", request.data_root.string(),
+    std::error_code error;
+    throw DatasetError(fmt::format("--data-root {}: {} (expected a folder laid out as {})", request.data_root.string(),
+                                   fs::exists(request.data_root, error) ? "a file, not a folder" : "no such folder",
                                    entry.layout));
   }
   DatasetScan scan = entry.scan(fs::canonical(request.data_root), params);
   DatasetDescription& description = scan.description;
   description.front_end = with_mel_options(description.front_end, params);
+  refuse_files_outside_the_root(scan);
   description.source += fmt::format(" root={} {}", scan.root.string(), fingerprint_of(scan));
   return prepare_with_cache(description, request, log, [&] { return read_recordings(scan, request.threads); });
 }
@@ -248,11 +251,20 @@ std::vector<CatalogEntry> dataset_catalog() {
 
 PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& request,
                                 const ParameterSet& params, std::ostream& log) {
+  // A data root given to a dataset that reads none is a mistake (a dataset name for another).
+  const auto refuse_data_root = [&](const char* kind) {
+    if (request.data_root.empty()) return;
+    throw DatasetError(fmt::format("--data-root {}: dataset '{}' is {} and reads no data folder; leave --data-root "
+                                   "out, or name the real dataset the folder holds", request.data_root.string(), name,
+                                   kind));
+  };
   for (const auto& entry : kSimulatedDatasets) {
-    if (name == entry.name) return build_simulated(entry, request, params, log);
+    if (name == entry.name) return refuse_data_root("simulated"), build_simulated(entry, request, params, log);
   }
   for (const auto& entry : kRenderedDatasets) {
-    if (name == entry.name) return build_rendered(entry, request, params, log);
+    if (name == entry.name) {
+      return refuse_data_root("rendered from a soundfont"), build_rendered(entry, request, params, log);
+    }
   }
   for (const auto& entry : kRealDatasets) {
     if (name == entry.name) return build_real(entry, request, params, log);

@@ -1,12 +1,16 @@
 #include "datasets/hdf5_file.h"
 
 #include <H5Cpp.h>
+#include <fcntl.h>
 #include <fmt/format.h>
+#include <unistd.h>
 
+#include <cstring>
 #include <functional>
 
 #include "core/error.h"
 #include "core/atomic_file.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -17,6 +21,14 @@ namespace {
 H5::H5File open_for_reading(const fs::path& path) {
   H5::Exception::dontPrint();
   if (!fs::exists(path)) throw DatasetError(fmt::format("{}: no such file", path.string()));
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (!fs::is_regular_file(status)) {
+    throw DatasetError(fmt::format("{}: {}, expected an HDF5 file", path.string(), kind_of_node(status)));
+  }
+  if (::access(path.c_str(), R_OK) != 0) {
+    throw DatasetError(fmt::format("{}: cannot be read ({})", path.string(), std::strerror(errno)));
+  }
   try {
     if (!H5::H5File::isHdf5(path.string())) {
       throw DatasetError(fmt::format("{}: not an HDF5 file (or truncated)", path.string()));
@@ -92,11 +104,50 @@ std::vector<std::string> read_strings(const H5::DataType& stored, const H5::Data
   return texts;
 }
 
+// Bytes the file will take, at least: its data, and room for HDF5's own records (a few KiB a dataset).
+std::uintmax_t bytes_to_reserve(const Hdf5Contents& contents) {
+  std::uintmax_t bytes = 1 << 20;
+  const auto add_texts = [&](const std::vector<std::string>& texts) {
+    for (const auto& text : texts) bytes += text.size() + 64;  // heap object, its id, alignment
+  };
+  for (const auto& [name, array] : contents.floats) bytes += array->values.size() * sizeof(float) + 8192;
+  for (const auto& [name, values] : contents.integers) bytes += values.size() * sizeof(std::int32_t) + 8192;
+  for (const auto& [name, texts] : contents.strings) add_texts(texts), bytes += 8192;
+  for (const auto& [name, table] : contents.tables) {
+    bytes += table.values.size() * sizeof(double) + 8192;
+    add_texts(table.columns);
+  }
+  for (const auto& [name, value] : contents.attributes) bytes += 2 * value.size() + 1024;
+  return bytes;
+}
+
+// HDF5 1.10 cannot close a file whose writes failed, and its exit handler then crashes on it; so
+// the space is claimed first, where a full disk or a file-size limit is one clean error, and HDF5
+// writes into space that is there (its truncation frees the claim just before).
+void reserve_space(const fs::path& file, std::uintmax_t bytes, const fs::path& named) {
+  const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw FileError(fmt::format("{}: cannot create ({})", named.string(), std::strerror(errno)));
+  const int failure = ::posix_fallocate(fd, 0, static_cast<off_t>(bytes));
+  const bool emptied = ::ftruncate(fd, 0) == 0;
+  ::close(fd);
+  if (failure != 0) {
+    throw FileError(fmt::format("{}: cannot write {:.1f} MiB ({})", named.string(), bytes / 1048576.0,
+                                std::strerror(failure)));
+  }
+  if (!emptied) throw FileError(fmt::format("{}: cannot write ({})", named.string(), std::strerror(errno)));
+}
+
+bool a_write_failed = false;
+
 }  // namespace
+
+bool hdf5_cannot_shut_down() { return a_write_failed; }
 
 void write_hdf5_atomically(const fs::path& path, const Hdf5Contents& contents) {
   H5::Exception::dontPrint();
+  const std::uintmax_t bytes = bytes_to_reserve(contents);
   replace_file_atomically(path, [&](const fs::path& temporary) {
+    reserve_space(temporary, bytes, path);
     try {
       H5::H5File file(temporary.string(), H5F_ACC_TRUNC);
       for (const auto& [name, array] : contents.floats) {
@@ -126,6 +177,7 @@ void write_hdf5_atomically(const fs::path& path, const Hdf5Contents& contents) {
       }
       file.close();
     } catch (const H5::Exception& error) {
+      a_write_failed = true;
       throw DatasetError(fmt::format("{}: cannot write HDF5 ({})", path.string(), error.getDetailMsg()));
     }
   });

@@ -29,7 +29,13 @@ struct Hdf5Contents {
 };
 
 // Writes to a temporary name beside `path` and renames, so no half file ever carries the name.
+// A full disk or a file-size limit is found before HDF5 writes (FileError).
 void write_hdf5_atomically(const std::filesystem::path& path, const Hdf5Contents& contents);
+
+// True once a write failed inside HDF5 (an I/O error the space check could not foresee): HDF5 1.10
+// then holds a file it cannot close, and its exit handler would crash on it, so the program ends
+// without running exit handlers (tools/fscil-bench/command_line.h).
+bool hdf5_cannot_shut_down();
 
 // Each reader throws DatasetError naming the file and dataset when it is missing, truncated,
 // not HDF5, of the wrong type or of the wrong rank (expected_rank < 0 accepts any rank).

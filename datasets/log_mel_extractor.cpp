@@ -93,6 +93,12 @@ struct LogMelExtractor::Plan {
 
 LogMelExtractor::LogMelExtractor(const LogMelSettings& settings)
     : settings_(checked(settings)), filterbank_(MelFilterbank::build(settings)), plan_(std::make_unique<Plan>()) {
+  // Some empty filters are a warning (torchaudio's too); all empty are features of nothing.
+  if (filterbank_.empty_filters() == settings.n_mels) {
+    throw DatasetError(fmt::format("sample rate {} Hz with n_fft {}: all {} Mel filters are empty, so every feature "
+                                   "would be -100 dB; expected the recordings' sample rate in Hz", settings.sample_rate,
+                                   settings.n_fft, settings.n_mels));
+  }
   window_.resize(settings.n_fft);
   for (std::int64_t n = 0; n < settings.n_fft; ++n) {
     window_[n] = static_cast<float>(0.5 - 0.5 * std::cos(2.0 * M_PI * n / settings.n_fft));

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "core/shown_text.h"
 #include "metrics/json_numbers.h"
 #include "metrics/session_fields.h"
@@ -55,9 +56,14 @@ double field_of(const SessionField& field, const json& value, const std::string&
     case Kind::samples: return static_cast<double>(whole_number<std::int64_t>(value, field.key, origin, 0));
     case Kind::percent:
     case Kind::novel_percent:
-    case Kind::seconds:
       if (!value.is_number()) {
         throw Error(fmt::format("{}: {} {}, expected a number", origin, field.key, shown_text(value.dump())));
+      }
+      return value.get<double>();
+    case Kind::seconds:
+      if (!value.is_number() || !(value.get<double>() >= 0)) {
+        throw Error(fmt::format("{}: {} {}, expected a number of seconds >= 0", origin, field.key,
+                                shown_text(value.dump())));
       }
       return value.get<double>();
     case Kind::ratio: return number_of(value, field.key, origin);
@@ -86,12 +92,15 @@ json training_log_json(const std::vector<EpochLog>& log, NonFinite non_finite) {
   return rows;
 }
 
-std::vector<EpochLog> training_log_of(const json& rows, const std::string& origin) {
+std::vector<EpochLog> training_log_of(const json& rows, const std::string& origin, const std::string& path) {
+  if (!rows.is_array()) throw Error(fmt::format("{}: field '{}': expected a list", origin, path));
   std::vector<EpochLog> log;
-  for (const auto& row : rows) {
-    EpochLog epoch{row.at("stage").get<std::string>(), whole_number<int>(row.at("epoch"), "epoch", origin), {}};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const JsonFields<Error> row(rows[i], origin, fmt::format("{}[{}]", path, i));
+    row.require_known_keys({"stage", "epoch", "values"});
+    EpochLog epoch{row.text("stage"), row.whole<int>("epoch"), {}};
     require_csv_text(epoch.stage, "stage", "text", origin);
-    for (const auto& [name, value] : row.at("values").get<std::map<std::string, json>>()) {
+    for (const auto& [name, value] : row.object("values").json().items()) {
       require_csv_text(name, "value", "a name", origin);
       epoch.values[name] = number_of(value, "training log " + name, origin);
     }
@@ -118,18 +127,27 @@ json sessions_json(const std::vector<SessionOutcome>& sessions, NonFinite non_fi
 
 std::vector<SessionOutcome> sessions_from_json(const json& rows, const std::string& origin) {
   if (!rows.is_array()) throw Error(fmt::format("{}: sessions {}, expected a list", origin, shown_text(rows.dump())));
+  std::vector<std::string> known = {"diagnostics", "training_log"};
+  for (const auto& field : session_fields()) known.push_back(field.key);
   std::vector<SessionOutcome> sessions;
-  for (const auto& row : rows) {
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const JsonFields<Error> row(rows[i], origin, fmt::format("sessions[{}]", i));
+    row.require_known_keys(known);
     SessionOutcome session;
-    for (const auto& field : session_fields()) field.set(session, field_of(field, row.at(field.key), origin));
+    for (const auto& field : session_fields()) {
+      field.set(session, field_of(field, row.at(field.key, "a number"), origin));
+    }
     require_percentages(session, origin);
-    if (row.contains("diagnostics")) {
-      for (const auto& [name, value] : row.at("diagnostics").get<std::map<std::string, json>>()) {
+    if (row.has("diagnostics")) {
+      for (const auto& [name, value] : row.object("diagnostics").json().items()) {
         session.diagnostics[name] = number_of(value, "diagnostic " + name, origin);
       }
     }
     // Files written before the log was kept have none.
-    if (row.contains("training_log")) session.training_log = training_log_of(row.at("training_log"), origin);
+    if (row.has("training_log")) {
+      session.training_log =
+          training_log_of(row.json().at("training_log"), origin, fmt::format("sessions[{}].training_log", i));
+    }
     sessions.push_back(std::move(session));
   }
   return sessions;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "core/progress_reporter.h"
+#include "metrics/convergence.h"
 
 namespace fscil {
 
@@ -66,6 +67,16 @@ void RunStages::store(const std::string& stage, TrainedStage trained) {
 }
 
 void RunStages::file_trained() {
+  // A stage that learned nothing, and every stage trained on it, is this run's result to report,
+  // never a base for later runs.
+  for (const auto& [stage, trained] : trained_) {
+    for (const StageConvergence& judged : judge_stages(trained.training_log)) {
+      if (judged.verdict != TrainingVerdict::not_learning) continue;
+      if (progress_ != nullptr) progress_->note(fmt::format("stages not shared or cached: {}", describe_stage(judged)));
+      trained_.clear();
+      return;
+    }
+  }
   for (auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), std::move(trained), method_name_, progress_);
   trained_.clear();
 }

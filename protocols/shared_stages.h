@@ -40,7 +40,7 @@ class SharedStages {
 // One run's StageStore: it names each stage's identity from the run's values (IdentityOf),
 // remembers which stage it took over, and from where, for the run's record, and holds the stages
 // it trained until its base session has ended well (file_trained()): a run that fails or stops
-// in its base session shares nothing of it.
+// in its base session, or one of whose stages did not learn, shares nothing of it.
 class RunStages : public StageStore {
  public:
   using IdentityOf = std::function<std::string(const std::string& stage)>;

@@ -13,6 +13,7 @@
 #include "metrics/fscil_metrics.h"
 #include "core/shown_text.h"
 #include "reports/csv_fields.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/text_file.h"
 #include "core/number_text.h"
@@ -101,6 +102,7 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
   bool header_seen = false;
   bool with_kernels = true;
   int line_number = 0;
+  never_replace(path);
   for (const std::string& line : csv_lines(read_text_file(path))) {
     ++line_number;
     if (line.empty() || line[0] == '#') continue;

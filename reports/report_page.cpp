@@ -93,7 +93,8 @@ std::size_t json_files_in(const fs::path& folder) {
 Folders folder_contents(const fs::path& root) {
   std::error_code error;
   if (!fs::is_directory(root, error)) {
-    throw ReportError(fmt::format("{}: not a results folder (no such directory)", root.string()));
+    throw ReportError(fmt::format("{}: not a results folder ({})", root.string(),
+                                  fs::exists(root, error) ? "a file" : "no such folder"));
   }
   Folders folders;
   fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, error), end;

@@ -12,6 +12,8 @@
 #include "reports/comparable_runs.h"
 #include "core/text_file.h"
 #include "core/error.h"
+#include "core/json_fields.h"
+#include "core/valid_range.h"
 #include "core/number_text.h"
 #include "metrics/json_numbers.h"
 #include "metrics/session_json.h"
@@ -102,6 +104,19 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
     }
     return std::nullopt;
   };
+  // The session plan's counts are whole numbers wherever they are recorded ("shot": "five" is no plan).
+  for (const char* key : {"base_classes", "sessions", "shot", "way"}) {
+    for (const auto* values : {&record.protocol_parameters, &record.parameters}) {
+      const auto found = values->find(key);
+      if (found == values->end()) continue;
+      const auto count = parse_number<std::int64_t>(found->second);
+      if (!count || *count < 1) {
+        throw ReportError(fmt::format("{}: field '{}.{}': expected a whole number of at least 1, found '{}'", origin,
+                                      values == &record.parameters ? "parameters" : "protocol_parameters", key,
+                                      shown_text(found->second)));
+      }
+    }
+  }
   const auto sessions = protocol_value("sessions");
   if (sessions && static_cast<std::int64_t>(record.sessions.size()) > *sessions) {
     throw ReportError(fmt::format("{}: {} sessions recorded, expected at most the protocol's {}", origin,
@@ -138,78 +153,77 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
 }  // namespace
 
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin) {
+  using Fields = JsonFields<ReportError>;
+  const json document = parse_json_object<ReportError>(text, origin);
+  const Fields top(document, origin);
+  // Every field to_json_text writes; a file with more was not written by fscil-bench.
+  top.require_known_keys({"schema", "method", "dataset", "profile", "seed", "threads", "evaluated_on", "selection",
+                          "grid", "parameters", "protocol_parameters", "machine", "version", "git_commit",
+                          "dataset_key", "sessions", "total_seconds", "peak_resident_bytes", "replay", "inference"});
+  if (top.whole<int>("schema") != kSchemaVersion) top.fail("schema", fmt::format("{}", kSchemaVersion));
   try {
-    const json document = json::parse(text);
-    if (document.at("schema") != json(kSchemaVersion)) {
-      throw ReportError(fmt::format("{}: result schema {}, expected {}", origin, document.at("schema").dump(),
-                                    kSchemaVersion));
-    }
     RunRecord record;
-    record.method = document.at("method").get<std::string>();
-    record.dataset = document.at("dataset").get<std::string>();
+    record.method = top.text("method");
+    record.dataset = top.text("dataset");
     // Names go into CSV, Markdown and LaTeX tables and into file names as they are.
     for (const auto& [field, name] : {std::pair("method", record.method), std::pair("dataset", record.dataset)}) {
       if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.+/-") !=
                               std::string::npos) {
-        throw ReportError(fmt::format("{}: {} '{}', expected letters, digits, '_', '.', '+', '/' or '-'", origin, field,
-                                      shown_text(name)));
+        top.fail(field, fmt::format("letters, digits, '_', '.', '+', '/' or '-', found '{}'", shown_text(name)));
       }
     }
-    record.profile = document.at("profile").get<std::string>();
-    record.seed = whole_number<std::uint64_t>(document.at("seed"), "seed", origin);
-    record.threads = whole_number<int>(document.at("threads"), "threads", origin);
-    record.evaluated_on = document.value("evaluated_on", std::string("test"));
+    record.profile = top.text("profile");
+    record.seed = top.whole<std::uint64_t>("seed");
+    record.threads = top.whole<int>("threads");
+    record.evaluated_on = top.text("evaluated_on", "test");
     if (record.evaluated_on != "test" && record.evaluated_on != "validation") {
-      throw ReportError(fmt::format("{}: evaluated_on '{}', expected test or validation", origin,
-                                    shown_text(record.evaluated_on)));
+      top.fail("evaluated_on", fmt::format("test or validation, found '{}'", shown_text(record.evaluated_on)));
     }
-    record.selection = document.value("selection", std::string("last"));  // files from before the choice
+    record.selection = top.text("selection", "last");  // files from before the choice
     if (!is_selection_name(record.selection)) {
-      throw ReportError(fmt::format("{}: selection '{}', expected last, validation or test-oracle", origin,
-                                    shown_text(record.selection)));
+      top.fail("selection", fmt::format("last, validation or test-oracle, found '{}'", shown_text(record.selection)));
     }
-    if (document.contains("grid")) record.grid = document.at("grid").get<std::map<std::string, std::string>>();
+    if (top.has("grid")) record.grid = top.texts("grid");
     for (const auto& [key, value] : record.grid) {
       // Cell values become CSV fields and folder names as they are.
       for (const std::string& text : {key, value}) {
         if (!is_grid_text(text)) {
-          throw ReportError(fmt::format("{}: grid {}={}, expected letters, digits, '_', '.' or '-'", origin,
-                                        shown_text(key), shown_text(value)));
+          top.fail("grid",
+                   fmt::format("letters, digits, '_', '.' or '-', found {}={}", shown_text(key), shown_text(value)));
         }
       }
     }
-    record.parameters = document.at("parameters").get<std::map<std::string, std::string>>();
-    if (document.contains("protocol_parameters")) {
-      record.protocol_parameters = document.at("protocol_parameters").get<std::map<std::string, std::string>>();
-    }
-    record.machine = document.at("machine").get<std::map<std::string, std::string>>();
-    record.version = document.value("version", std::string());
-    record.git_commit = document.at("git_commit").get<std::string>();
-    record.dataset_key = document.at("dataset_key").get<std::string>();
-    record.total_seconds = document.at("total_seconds").get<double>();
-    record.peak_resident_bytes =
-        whole_number<std::int64_t>(document.at("peak_resident_bytes"), "peak_resident_bytes", origin);
+    record.parameters = top.texts("parameters");
+    if (top.has("protocol_parameters")) record.protocol_parameters = top.texts("protocol_parameters");
+    record.machine = top.texts("machine");
+    record.version = top.text("version", "");
+    record.git_commit = top.text("git_commit");
+    record.dataset_key = top.text("dataset_key");
+    record.total_seconds = top.number("total_seconds", ValidRange::at_least(0));
+    record.peak_resident_bytes = top.whole<std::int64_t>("peak_resident_bytes", 0);
     // Files written before replay was recorded have none: their methods kept no samples.
-    if (document.contains("replay")) {
-      record.replay_samples = whole_number<std::int64_t>(document.at("replay").at("samples"), "replay samples", origin);
-      record.replay_bytes = whole_number<std::int64_t>(document.at("replay").at("bytes"), "replay bytes", origin);
+    if (top.has("replay")) {
+      const Fields replay = top.object("replay");
+      replay.require_known_keys({"samples", "bytes"});
+      record.replay_samples = replay.whole<std::int64_t>("samples", 0);
+      record.replay_bytes = replay.whole<std::int64_t>("bytes", 0);
     }
-    if (document.contains("inference")) {
-      const json& inference = document.at("inference");
-      record.inference.macs = whole_number<std::int64_t>(inference.at("macs"), "inference macs", origin);
-      record.inference.parameters =
-          whole_number<std::int64_t>(inference.at("parameters"), "inference parameters", origin);
-      record.inference.trainable_parameters =
-          whole_number<std::int64_t>(inference.at("trainable_parameters"), "inference trainable_parameters", origin);
-      record.inference.seconds_per_sample = inference.at("seconds_per_sample").get<double>();
-      record.inference.batch = whole_number<std::int64_t>(inference.at("batch"), "inference batch", origin);
+    if (top.has("inference")) {
+      const Fields inference = top.object("inference");
+      inference.require_known_keys(
+          {"macs", "flops", "parameters", "trainable_parameters", "seconds_per_sample", "batch"});
+      record.inference.macs = inference.whole<std::int64_t>("macs", 0);
+      record.inference.parameters = inference.whole<std::int64_t>("parameters", 0);
+      record.inference.trainable_parameters = inference.whole<std::int64_t>("trainable_parameters", 0);
+      record.inference.seconds_per_sample = inference.number("seconds_per_sample", ValidRange::at_least(0));
+      record.inference.batch = inference.whole<std::int64_t>("batch", 0);
     }
-    record.sessions = sessions_from_json(document.at("sessions"), origin);
+    record.sessions = sessions_from_json(top.at("sessions", "a list of sessions"), origin);
     if (record.sessions.empty()) throw ReportError(fmt::format("{}: no sessions recorded", origin));
     check_as_a_whole(record, origin);
     return record;
-  } catch (const json::exception& error) {
-    throw ReportError(fmt::format("{}: not a valid result file ({})", origin, error.what()));
+  } catch (const json::exception& error) {  // the sessions' readers in metrics/
+    throw ReportError(fmt::format("{}: not a valid result file ({})", origin, json_error_text(error)));
   } catch (const ReportError&) {
     throw;
   } catch (const Error& error) {  // from the readers in metrics/, which name the file and field
@@ -222,7 +236,11 @@ void save_run_record(const fs::path& directory, const RunRecord& record) {
 }
 
 std::vector<RunRecord> load_run_records(const fs::path& directory) {
-  if (!fs::is_directory(directory)) throw ReportError(fmt::format("{}: no such results directory", directory.string()));
+  if (!fs::is_directory(directory)) {
+    std::error_code error;
+    throw ReportError(fmt::format("{}: {}, expected the --out folder of a run", directory.string(),
+                                  fs::exists(directory, error) ? "a file" : "no such folder"));
+  }
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(directory)) {
     if (entry.is_regular_file() && entry.path().extension() == ".json") files.push_back(entry.path());
@@ -230,6 +248,7 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   std::sort(files.begin(), files.end());
   std::vector<RunRecord> records;
   for (const auto& file : files) {
+    never_replace(file);
     records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
     records.back().source = file.string();
   }

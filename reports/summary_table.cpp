@@ -66,6 +66,7 @@ TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts) {
                                       [](TrainingVerdict v) { return v == TrainingVerdict::not_recorded; })) {
     return TrainingVerdict::not_recorded;
   }
+  if (any(TrainingVerdict::not_learning)) return TrainingVerdict::not_learning;
   if (any(TrainingVerdict::still_rising)) return TrainingVerdict::still_rising;
   if (any(TrainingVerdict::unjudged) || any(TrainingVerdict::not_recorded)) return TrainingVerdict::unjudged;
   return TrainingVerdict::converged;
@@ -85,10 +86,12 @@ std::string unfinished_warning(const std::vector<RunRecord>& records) {
   for (const RunRecord& record : records) {
     const std::string label = with_cell(record.method, record.grid);
     for (const StageConvergence& stage : base_stages(record)) {
-      if (stage.verdict != TrainingVerdict::still_rising) continue;
-      out += fmt::format("warning: {}, seed {}: a base stage ended still rising on base validation, not at its "
-                         "plateau: {}\n",
-                         label, record.seed, describe_stage(stage));
+      if (!ended_unfinished(stage.verdict)) continue;
+      out += fmt::format("warning: {}, seed {}: a base stage ended {}: {}\n", label, record.seed,
+                         stage.verdict == TrainingVerdict::not_learning
+                             ? "without learning"
+                             : "still rising on base validation, not at its plateau",
+                         describe_stage(stage));
     }
   }
   return out;
@@ -151,7 +154,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
       const std::vector<StageConvergence> stages = base_stages(record);
       verdicts.push_back(run_verdict(stages));
       for (const auto& stage : stages) {
-        if (stage.verdict != TrainingVerdict::still_rising) continue;
+        if (!ended_unfinished(stage.verdict)) continue;
         row.unfinished.push_back(fmt::format("seed {}, {}", record.seed, describe_stage(stage)));
       }
     }

@@ -71,14 +71,15 @@ std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus
          fmt::format(fmt::runtime(interval), statistic->mean - statistic->ci95, statistic->mean + statistic->ci95);
 }
 
-// A row whose base training was still rising is marked, and its footnote says by how much.
+// A row whose base training was still rising, or did not learn, is marked; its footnote says how.
 std::string marked_label_suffix(const SummaryRow& row, const char* dagger) {
-  return row.training == TrainingVerdict::still_rising ? dagger : "";
+  return ended_unfinished(row.training) ? dagger : "";
 }
 
 constexpr const char* kUnfinishedNote =
     "a base stage ended still rising on base validation (the best of its last 3 epochs at least a point above "
-    "the best before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau";
+    "the best before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau; or "
+    "its loss never moved: not learning";
 
 std::string grid_value(const SummaryRow& row, const std::string& key) {
   const auto found = row.grid.find(key);

@@ -100,7 +100,8 @@ DatasetScan scan_ls100(const fs::path& root) {
   ClipCollector clips(scan);
   std::vector<std::string>& names = scan.description.class_names;
   for (const auto& split : kListedSplits) {
-    const TextTable table = read_text_table(root / fmt::format("librispeech_fscil_{}.csv", split.suffix));
+    const fs::path listing = root / fmt::format("librispeech_fscil_{}.csv", split.suffix);
+    const TextTable table = read_text_table(fenced_by_root(root, listing));
     const std::size_t file = table.column("filename"), speaker = table.column("speaker_id"), label = table.column("label");
     for (std::size_t r = 0; r < table.rows.size(); ++r) {
       const auto& row = table.rows[r];
@@ -152,7 +153,8 @@ DatasetScan scan_ns100(const fs::path& root) {
 
   ClipCollector clips(scan);
   for (const auto& split : kListedSplits) {
-    const TextTable table = read_text_table(meta / fmt::format("nsynth-100-fs_{}.csv", split.suffix));
+    const fs::path listing = meta / fmt::format("nsynth-100-fs_{}.csv", split.suffix);
+    const TextTable table = read_text_table(fenced_by_root(root, listing));
     const std::size_t file = table.column("filename"), instrument = table.column("instrument"),
                       source = table.column("audio_source");
     for (std::size_t r = 0; r < table.rows.size(); ++r) {

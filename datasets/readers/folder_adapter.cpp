@@ -261,7 +261,7 @@ SignalData read_folder_recording(const RecordingSource& source, const std::vecto
 
 DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected) {
   const fs::path config_path = root / "dataset.json";
-  const DatasetJson config(config_path);
+  const DatasetJson config(fenced_by_root(root, config_path));
   const json& top = config.root();
   config.require_known_keys(top, "", {"name", "sample_rate", "channels", "segment_seconds", "hop_seconds",
                                       "max_segments_per_recording", "front_end", "sessions"});
@@ -297,7 +297,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
   d.front_end = front_end_of(config, d.sample_rate, expected ? expected->preset : "");
 
   const fs::path manifest_path = root / "manifest.csv";
-  const TextTable manifest = read_text_table(manifest_path);
+  const TextTable manifest = read_text_table(fenced_by_root(root, manifest_path));
   const std::size_t file_column = manifest.column("file"), class_column = manifest.column("class"),
                     group_column = manifest.column("group"), recording_column = manifest.column("recording");
   const bool has_split = manifest.has_column("split"), has_context = manifest.has_column("context");

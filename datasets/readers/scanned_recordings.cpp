@@ -9,11 +9,19 @@
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/stable_hash.h"
+#include "datasets/readers/regular_file.h"
 #include "datasets/segment_cache.h"
 
 namespace fscil {
 
 namespace fs = std::filesystem;
+
+void refuse_files_outside_the_root(const DatasetScan& scan) {
+  const fs::path root = fs::weakly_canonical(scan.root);
+  for (const auto& recording : scan.recordings) {
+    for (const auto& file : recording.files) fenced_by_root(root, file);
+  }
+}
 
 std::string fingerprint_of(const DatasetScan& scan) {
   std::string listing;

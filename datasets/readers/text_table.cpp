@@ -37,6 +37,29 @@ bool next_line(std::ifstream& in, std::string& line, int& line_number) {
 
 bool blank(const std::string& line) { return line.find_first_not_of(" \t\r\n") == std::string::npos; }
 
+// Blank lines of a recording: at its end they are nothing; between samples they would be a
+// sample lost without a word (every later one shifted in time), so they are refused.
+class BlankLines {
+ public:
+  explicit BlankLines(const std::filesystem::path& path) : path_(path) {}
+  // True when `line` is blank (skip it); throws when a sample follows a blank line.
+  bool skip(const std::string& line, int line_number, bool samples_started) {
+    if (blank(line)) {
+      if (samples_started && first_blank_ == 0) first_blank_ = line_number;
+      return true;
+    }
+    if (first_blank_ != 0) {
+      throw DatasetError(fmt::format("{}:{}: a blank line between samples (line {} follows it), expected one sample "
+                                     "per line to the end", path_.string(), first_blank_, line_number));
+    }
+    return false;
+  }
+
+ private:
+  const std::filesystem::path& path_;
+  int first_blank_ = 0;
+};
+
 }  // namespace
 
 std::size_t TextTable::column(const std::string& name) const {
@@ -81,6 +104,10 @@ TextTable read_text_table(const std::filesystem::path& path) {
 
 float parse_finite_float(const std::string& field, const std::string& where) {
   const auto value = parse_number<float>(field);
+  if (!value && parse_number<double>(field)) {
+    throw DatasetError(fmt::format("{}: {} is outside the range of a 32-bit float sample (magnitudes from about "
+                                   "1.2e-38 to 3.4e38, or 0)", where, shown_text(field)));
+  }
   if (!value) throw DatasetError(fmt::format("{}: '{}' is not a number", where, shown_text(field)));
   if (!std::isfinite(*value)) throw DatasetError(fmt::format("{}: {} found, expected a finite number", where, field));
   return *value;
@@ -92,8 +119,9 @@ SignalData read_single_column(const std::filesystem::path& path) {
   signal.channels = 1;
   std::string line;
   int line_number = 0;
+  BlankLines blanks(path);
   while (next_line(in, line, line_number)) {
-    if (blank(line)) continue;
+    if (blanks.skip(line, line_number, !signal.values.empty())) continue;
     const std::string field = trimmed(line);
     if (field.find_first_of(",; \t") != std::string::npos) {
       throw DatasetError(fmt::format("{}:{}: '{}' holds several values, expected one number per line", path.string(),
@@ -115,8 +143,9 @@ SignalData read_signal_csv(const std::filesystem::path& path, const std::vector<
   std::vector<std::vector<float>> samples(channels.size());
   std::string line;
   int line_number = 0;
+  BlankLines blanks(path);
   while (next_line(in, line, line_number)) {
-    if (blank(line)) continue;
+    if (blanks.skip(line, line_number, !header_only.header.empty())) continue;
     const auto fields = csv_fields(line);
     if (header_only.header.empty()) {
       header_only.header = fields;

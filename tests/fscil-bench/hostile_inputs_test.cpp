@@ -4,6 +4,11 @@
 // inputs starts from this table.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -26,8 +31,10 @@ struct HostileCase {
   int exit_code;
   const char* fragment;   // of the one error line
   // More files under {root} before the command: "name/" a folder, "name=@path" a copy of the
-  // source tree's file, "name=text" a file holding text, "name" a file of the user's.
+  // source tree's file, "name=text" a file holding text, "name->target" a symbolic link ({root}
+  // allowed in target), "name|" a FIFO, "name" a file of the user's.
   std::vector<std::string> files = {};
+  std::string environment = "";  // shell words before the command: "ulimit -f 100;"
 };
 
 // gtest names a case by this (ctest lists it), not by the struct's bytes.
@@ -39,7 +46,11 @@ std::map<std::string, std::string> tree_of(const fs::path& root) {
   std::map<std::string, std::string> tree;
   for (const auto& entry : fs::recursive_directory_iterator(root)) {
     const std::string name = fs::relative(entry.path(), root).string();
-    tree[name] = entry.is_regular_file() ? stable_hash(read_text(entry.path())) : std::string("folder");
+    const fs::file_status node = entry.symlink_status();
+    tree[name] = fs::is_symlink(node)         ? "link to " + fs::read_symlink(entry.path()).string()
+                 : fs::is_regular_file(node) ? stable_hash(read_text(entry.path()))
+                 : fs::is_fifo(node)         ? std::string("FIFO")
+                                             : std::string("folder");
   }
   return tree;
 }
@@ -69,6 +80,13 @@ std::string grid_of(const std::string& keys, int values) {
     for (int v = 1; v < values; ++v) grid += "," + std::to_string(v);
   }
   return grid;
+}
+
+// "grid.json=..." : a config sweeping shot over `values` values.
+std::string grid_config(int values) {
+  std::string file = R"(grid.json={"grid": {"shot": [0)";
+  for (int v = 1; v < values; ++v) file += "," + std::to_string(v);
+  return file + "]}}";
 }
 
 std::vector<std::string> with(std::vector<std::string> files, const std::string& more) {
@@ -125,6 +143,70 @@ const HostileCase kCases[] = {
      "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --seeds 2 --resume {root}/out",
      1, "prototype__simtex-mini__seed1.ckpt is the checkpoint of a run this command does not make",
      {"out/.lock", "out/checkpoints/prototype__simtex-mini__seed1.ckpt"}},
+    // Round four. A failed write is one error line, never a crash (HDF5 once segfaulted at exit).
+    {"segment_cache_past_a_file_size_limit", kRun, 1, "MiB (File too large)", {}, "ulimit -f 100;"},
+    // Inputs that are not files: a FIFO with no writer once blocked for ever.
+    {"config_a_fifo", kRun + "--config {root}/run.json", 1, "run.json: expected a regular file, found a FIFO",
+     {"run.json|"}},
+    // Bounds before work: 300 000 values of one key once took 110 s of CPU to reach the refusal.
+    {"grid_of_300000_values_in_a_config",
+     "plan --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --config {root}/grid.json", 2,
+     "--grid shot: 300000 values are more than the 10000 cells a sweep takes", {grid_config(300000)}},
+    // The one writer replaces regular files only, and never a file the command reads.
+    {"reference_out_onto_the_result_it_reads",
+     "reference --results {root}/runs --out {root}/runs/results/orco.json", 1, "orco.json: is an input, which this command reads",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    {"reference_out_onto_a_link", "reference --results {root}/runs --out {root}/out/link.csv", 1,
+     "link.csv: is a symbolic link; fscil-bench writes only regular files",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "out/link.csv->{root}/elsewhere.csv"}},
+    {"reference_out_onto_a_fifo", "reference --results {root}/runs --out {root}/out/pipe", 1,
+     "pipe: is a FIFO; fscil-bench writes only regular files",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "out/pipe|"}},
+    {"reference_out_onto_a_device", "reference --results {root}/runs --out /dev/full", 1,
+     "/dev/full: is a character device; fscil-bench writes only regular files",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    {"rerun_into_the_original_folder", "rerun {root}/runs/results/orco.json --out {root}/runs", 2,
+     "runs holds this result file, which the rerun would replace",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    // Every file fscil-bench writes below --out is claimed before work, not the tables alone.
+    {"out_holding_the_users_checkpoint", kRun, 1, "checkpoints/prototype__simtex-mini__seed1.ckpt would be replaced",
+     {"out/checkpoints/prototype__simtex-mini__seed1.ckpt"}},
+    {"out_holding_the_users_figure", kRun, 1, "figures/sessions_simtex-mini.svg would be replaced",
+     {"out/figures/sessions_simtex-mini.svg"}},
+    {"out_holding_a_file_named_results", kRun, 1, "out/results is not a folder, and fscil-bench writes its results there",
+     {"out/results"}},
+    // Options a run would ignore, or read as another, are refused.
+    {"cache_dir_empty", kRun + "--cache-dir ''", 2, "--cache-dir: expected a folder; leave the option out"},
+    {"resume_empty", "--methods prototype --dataset simtex-mini --profile smoke --quiet --resume ''", 2,
+     "--resume: expected the folder of the interrupted command"},
+    {"cache_dir_with_no_cache", kRun + "--no-cache", 2, "--cache-dir and --no-cache: --no-cache reads and writes no cache"},
+    {"data_root_of_a_simulated_dataset", kRun + "--data-root {root}/out", 1,
+     "dataset 'simtex-mini' is simulated and reads no data folder"},
+    {"embeddings_of_one_session_twice", kRun + "--save-embeddings 0,0", 1, "--save-embeddings 0,0: session 0 given twice"},
+    {"data_root_a_file", "--methods prototype --dataset haptex --profile smoke --quiet --no-cache --out {root}/out "
+     "--data-root {root}/out/notes.txt", 1, "notes.txt: a file, not a folder (expected a folder laid out as"},
+    {"selection_fixed_and_swept",
+     "plan --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --selection validation "
+     "--grid selection=last,test-oracle --no-estimate", 2, "--selection validation and --grid selection: a choice is either"},
+    // report reads what the command it names wrote, and says so when the folder holds something else.
+    {"report_of_a_method_the_folder_lacks", "report --results {root}/runs --methods orco,prototype --out {root}/tables", 2,
+     "runs holds no result file of prototype",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    {"report_with_a_grid_the_folder_lacks", "report --results {root}/runs --grid shot=1,5 --out {root}/tables", 2,
+     "--grid: ", {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    // Recordings read as strictly as dataset.json: no sample lost to a blank line, no range called "not a number".
+    {"recording_with_a_blank_line_between_samples", kFolderRun, 1,
+     "r0.csv:3: a blank line between samples (line 4 follows it)",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
+      "data/r0.csv=a\n1\n\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n\n\n"}},
+    {"recording_with_a_sample_past_float_range", kFolderRun, 1,
+     "r0.csv:3 column a: 1e39 is outside the range of a 32-bit float sample",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
+      "data/r0.csv=a\n1\n1e39\n3\n", "data/r1.csv=a\n10\n20\n30\n"}},
+    // The data root fences what a dataset reads, links resolved.
+    {"recording_linked_out_of_the_data_root", kFolderRun, 1, "leads to /etc/passwd, outside the data root",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
+      "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv->/etc/passwd"}},
 };
 
 class HostileInput : public testing::TestWithParam<HostileCase> {};
@@ -137,9 +219,17 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   std::ofstream(root.path() / "out" / "notes.txt") << "the user's own notes\n";
   for (const std::string& file : c.files) {
     const auto equals = file.find('=');
+    const auto arrow = file.find("->");
+    if (arrow != std::string::npos) {
+      fs::create_directories((root.path() / file.substr(0, arrow)).parent_path());
+      fs::create_symlink(with_root(file.substr(arrow + 2), root.path()), root.path() / file.substr(0, arrow));
+      continue;
+    }
     const fs::path path = root.path() / file.substr(0, equals);
     fs::create_directories(path.parent_path());
-    if (equals != std::string::npos && file.compare(equals, 2, "=@") == 0) {
+    if (file.back() == '|') {
+      ASSERT_EQ(::mkfifo((root.path() / file.substr(0, file.size() - 1)).c_str(), 0644), 0) << file;
+    } else if (equals != std::string::npos && file.compare(equals, 2, "=@") == 0) {
       fs::copy_file(source_folder() / file.substr(equals + 2), path);
     } else if (equals != std::string::npos) {
       std::ofstream(path) << file.substr(equals + 1);
@@ -149,10 +239,48 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   }
   const auto before = tree_of(root.path());
 
-  const CommandResult result = run_cli(with_root(c.arguments, root.path()));
+  const CommandResult result = run_cli(with_root(c.arguments, root.path()), c.environment);
   expect_one_error_line(result, c.fragment);
   EXPECT_EQ(result.exit_code, c.exit_code) << result.output;
   EXPECT_EQ(tree_of(root.path()), before) << "files changed by: " << c.arguments;
+}
+
+// report, analyze, check and reference wait for no one: while a command still writes the folder,
+// its tables would count the runs finished so far as all of them.
+TEST(OutFolder, TablesAreRefusedWhileACommandStillWritesTheFolder) {
+  TemporaryDirectory root;
+  fs::create_directories(root.path() / "runs" / "results");
+  fs::copy_file(source_folder() / "tests/fuzz/corpus/run_record/orco_smoke.json", root.path() / "runs/results/orco.json");
+  for (const char* lock : {".lock", ".lock-orco__simtex-mini__seed2"}) {
+    const int held = ::open((root.path() / "runs" / lock).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    ASSERT_GE(held, 0);
+    ASSERT_EQ(::flock(held, LOCK_EX | LOCK_NB), 0);
+    const std::string results = (root.path() / "runs").string();
+    for (const std::string& command : {"report --results " + results + " --out " + (root.path() / "tables").string(),
+                                       "analyze --results " + results + " --out " + (root.path() / "tables").string()}) {
+      const CommandResult busy = run_cli(command);
+      expect_one_error_line(busy, std::string("a fscil-bench command is still writing there (") + lock + " is held)");
+    }
+    ::close(held);
+  }
+  EXPECT_FALSE(fs::exists(root.path() / "tables" / "summary.csv"));
+  // Released (the command ended, kill -9 included), the same folder is tabulated.
+  EXPECT_EQ(run_cli("report --results " + (root.path() / "runs").string()).exit_code, 0);
+}
+
+// temperature=1e-45 once trained at chance (loss 2.3026 every epoch), exited 0 as if measured, and
+// filed the degenerate base in the stage cache for every later run.
+TEST(DegenerateTraining, ABaseThatDidNotLearnIsMarkedAndNeverCached) {
+  TemporaryDirectory root;
+  const CommandResult run = run_cli("--methods pits-sc --dataset simtex-mini --profile smoke --threads 1 --set "
+                                    "temperature=1e-45 --out " + (root.path() / "out").string() + " --cache-dir " +
+                                    (root.path() / "cache").string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("training not learning (pretrain: its loss stayed at 2.3026"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("stages not shared or cached: pretrain"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("base session not cached: its training did not learn"), std::string::npos) << run.output;
+  EXPECT_NE(read_text(root.path() / "out" / "summary.csv").find(",not learning\n"), std::string::npos);
+  EXPECT_FALSE(fs::exists(root.path() / "cache" / "stages") && !fs::is_empty(root.path() / "cache" / "stages"));
 }
 
 // What the refusals must leave alone: folders fscil-bench wrote, with or without their .lock.

@@ -75,6 +75,24 @@ TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
                                 "/./in.h5" + settings),
                         "is the input file");
   EXPECT_EQ(std::filesystem::file_size(input), before);
+  // A write past a file-size limit (as on a full disk): one line and exit 1, where HDF5 once
+  // segfaulted at exit, and no output.
+  const auto limited = directory.path() / "limited.h5";
+  const CommandResult full = run_cli("logmel --input " + input.string() + " --output " + limited.string() + settings,
+                                     "ulimit -f 8;");
+  expect_one_error_line(full, limited.string() + ": cannot write");
+  EXPECT_NE(full.output.find("(File too large)"), std::string::npos) << full.output;
+  EXPECT_EQ(full.exit_code, 1) << full.output;
+  EXPECT_FALSE(std::filesystem::exists(limited));
+  // A sample rate at which every Mel filter is empty once wrote -100 dB everywhere and exited 0.
+  const auto silent = directory.path() / "silent.h5";
+  expect_one_error_line(run_cli("logmel --input " + input.string() + " --output " + silent.string() +
+                                " --sample-rate 1e-300 --n-fft 128 --hop 16 --n-mels 64"),
+                        "all 64 Mel filters are empty, so every feature would be -100 dB");
+  EXPECT_FALSE(std::filesystem::exists(silent));
+  // A folder or an unreadable file as the input is said to be one, not "truncated or corrupt".
+  expect_one_error_line(run_cli("logmel --input " + directory.path().string() + " --output " + silent.string() + settings),
+                        directory.path().string() + ": a folder, expected an HDF5 file");
   // A folder in the output's place: one line, and no temporary left beside it.
   const auto folder = directory.path() / "folder.h5";
   std::filesystem::create_directory(folder);

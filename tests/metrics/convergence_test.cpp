@@ -11,7 +11,7 @@ namespace {
 std::vector<EpochLog> scored(const std::string& stage, const std::vector<double>& accuracy) {
   std::vector<EpochLog> log;
   for (std::size_t e = 0; e < accuracy.size(); ++e) {
-    log.push_back({stage, static_cast<int>(e + 1), {{"loss", 1.0}, {kBaseValidationKey, accuracy[e]}}});
+    log.push_back({stage, static_cast<int>(e + 1), {{"loss", 1.0 / static_cast<double>(e + 1)}, {kBaseValidationKey, accuracy[e]}}});
   }
   return log;
 }
@@ -28,6 +28,32 @@ TEST(Convergence, RisingLastEpochsAreStillRisingByTheBestAgainstTheBestBefore) {
   EXPECT_EQ(run_verdict(stages), TrainingVerdict::still_rising);
   EXPECT_EQ(describe_stage(stages[0]),
             "base: best of its last 3 of 8 epochs +9.00 points against the best before (20.0% -> 80.0%)");
+}
+
+// temperature=1e-45 once trained at chance, loss 2.3026 = ln 10 every epoch, and was filed in the
+// stage cache: a loss that never moves is no training, whatever its length.
+TEST(Convergence, ALossThatNeverMovesIsNotLearning) {
+  std::vector<EpochLog> log;
+  for (int epoch = 1; epoch <= 3; ++epoch) {
+    log.push_back({"pretrain", epoch, {{"loss", std::log(10.0) * (1 + 1e-6 * epoch)}, {kBaseValidationKey, 10.0}}});
+  }
+  auto stages = judge_stages(log);
+  ASSERT_EQ(stages.size(), 1u);
+  EXPECT_EQ(stages[0].verdict, TrainingVerdict::not_learning);
+  EXPECT_EQ(run_verdict(stages), TrainingVerdict::not_learning);
+  EXPECT_TRUE(ended_unfinished(stages[0].verdict));
+  EXPECT_EQ(describe_stage(stages[0]),
+            "pretrain: its loss stayed at 2.3026 over all its epochs, not learning (10.0% on base validation)");
+  // A loss that moves by more than kFlatLossFraction is judged as before (here, too few epochs).
+  log[2].values["loss"] = std::log(10.0) * (1 - 2 * kFlatLossFraction);
+  EXPECT_EQ(judge_stages(log)[0].verdict, TrainingVerdict::unjudged);
+  // One epoch cannot show a loss that never moves.
+  log.resize(1);
+  EXPECT_EQ(judge_stages(log)[0].verdict, TrainingVerdict::unjudged);
+  // Not learning outweighs still rising in a run of several stages.
+  auto rising = judge_stages(scored("base", {20, 35, 50, 62, 71, 74, 78, 80}));
+  rising.push_back(stages[0]);
+  EXPECT_EQ(run_verdict(rising), TrainingVerdict::not_learning);
 }
 
 TEST(Convergence, ANoisyPlateauOrALateDipIsConverged) {

@@ -4,14 +4,19 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <memory>
+#include <regex>
 #include <utility>
 
 #include "core/error.h"
 #include "core/shown_text.h"
 #include "core/stop_request.h"
+#include "datasets/hdf5_file.h"
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
@@ -31,33 +36,85 @@ void print_error(std::string message, const char* hint = "") {
   fmt::print(stderr, "fscil-bench: error: {}{}\n", shown_text(message, 2000), hint);
 }
 
+const CLI::Option* option_named(const CLI::App& app, const std::string& name) {
+  if (const CLI::Option* option = app.get_option_no_throw(name)) return option;
+  for (const CLI::App* command : app.get_subcommands([](const CLI::App*) { return true; })) {
+    if (const CLI::Option* option = command->get_option_no_throw(name)) return option;
+  }
+  return nullptr;
+}
+
+// CLI11's message in the shape of ours ("--threads '1.5': expected a whole number"): its own words
+// ("Could not convert", "At Most 1 required but received 2") never reach a user.
+std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
+  const std::string text = error.what();
+  static const std::regex convert(R"(^Could not convert: (\S+) = (.*)$)");
+  static const std::regex unexpected(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
+  static const std::regex missing(R"(^(\S+): \d+ required \S+ missing$)");
+  static const std::regex repeated(R"(^(\S+): At Most 1 required but received (\d+)$)");
+  std::smatch match;
+  if (std::regex_match(text, match, convert)) {
+    const CLI::Option* option = option_named(app, match[1]);
+    const std::string type = option != nullptr ? option->get_type_name() : "";
+    const char* expected = type.rfind("INT", 0) == 0     ? "a whole number"
+                           : type.rfind("FLOAT", 0) == 0 ? "a number"
+                                                         : "a value";
+    return fmt::format("{} '{}': expected {}", match[1].str(), match[2].str(), expected);
+  }
+  if (std::regex_match(text, match, unexpected)) {
+    return fmt::format("'{}': not an option, value or subcommand this command takes", match[1].str());
+  }
+  if (std::regex_match(text, match, missing)) return fmt::format("{}: expected a value after it", match[1].str());
+  if (std::regex_match(text, match, repeated)) {
+    return fmt::format("{}: given {} times; give it once", match[1].str(), match[2].str());
+  }
+  return text;
+}
+
 // argv with a --config file's options merged in (config_file.h), then parsed.
 void parse(CLI::App& app, int argc, char** argv) {
   std::vector<std::string> arguments(argv, argv + argc);
   if (const std::string config = config_file_of(arguments); !config.empty()) {
     arguments = with_config_file(arguments, config,
-                                 [&](const std::string& name) { return app.get_option_no_throw(name) != nullptr; });
+                                 [&](const std::string& name) {
+                                   const CLI::Option* option = app.get_option_no_throw(name);
+                                   if (option == nullptr) return OptionKind::unknown;
+                                   return option->get_expected_min() == 0 ? OptionKind::flag : OptionKind::takes_value;
+                                 });
   }
   std::vector<char*> words;
   for (auto& argument : arguments) words.push_back(argument.data());
   try {
     app.parse(static_cast<int>(words.size()), words.data());
   } catch (const CLI::ParseError& error) {
+    if (error.get_exit_code() == 0) throw;  // --help, --help-all
+    const std::string message = cli_message(app, error);
     // A bad value the file gave is the file's to name, not a flag the user never typed.
-    const std::string config = config_file_of({argv, argv + argc}), message = error.what();
-    if (config.empty() || error.get_exit_code() == 0) throw;
+    const std::string config = config_file_of({argv, argv + argc});
     const std::vector<std::string> typed(argv, argv + argc);
-    for (const auto& key : config_keys(config)) {
-      if (!command_line_gives(typed, "--" + key) && message.rfind("--" + key + ":", 0) == 0) {
-        throw CliError(fmt::format("--config {}: \"{}\":{}", config, key, message.substr(key.size() + 3)));
+    for (const auto& key : config.empty() ? std::vector<std::string>{} : config_keys(config)) {
+      const std::string option = "--" + key;
+      if (!command_line_gives(typed, option) && message.rfind(option, 0) == 0 &&
+          (message[option.size()] == ':' || message[option.size()] == ' ')) {
+        throw CliError(fmt::format("--config {}: \"{}\"{}", config, key, message.substr(option.size())));
       }
     }
-    throw;
+    throw CliError(message + " (try: fscil-bench --help)");
+  }
+}
+
+// Options that a run would otherwise ignore without a word.
+void refuse_ignored_options(const Invocation& invocation) {
+  if (invocation.given("--cache-dir") && invocation.run.no_cache) {
+    throw CliError("--cache-dir and --no-cache: --no-cache reads and writes no cache; give one of them");
   }
 }
 
 // --resume DIR continues the command whose --out it was.
 void apply_resume(const Invocation& invocation) {
+  if (invocation.given("--resume") && invocation.resume_dir.empty()) {
+    throw CliError("--resume: expected the folder of the interrupted command (its --out)");
+  }
   if (invocation.resume_dir.empty()) return;
   RunOptions& run = invocation.run;
   if (invocation.given("--out") && run.out != invocation.resume_dir) {
@@ -84,9 +141,7 @@ void require_output_written() {
   }
 }
 
-}  // namespace
-
-int run_command_line(int argc, char** argv) {
+int run_subcommand(int argc, char** argv) {
   close_method_registry();
   keep_freed_memory_for_reuse();
   CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
@@ -113,6 +168,7 @@ int run_command_line(int argc, char** argv) {
 
   try {
     parse(app, argc, argv);
+    refuse_ignored_options(invocation);
     apply_resume(invocation);
     Subcommand* chosen = nullptr;
     for (auto& [command, subcommand] : subcommands) {
@@ -141,6 +197,20 @@ int run_command_line(int argc, char** argv) {
     print_error(error.what());
     return exit_status::bad_input;
   }
+}
+
+}  // namespace
+
+int run_command_line(int argc, char** argv) {
+  std::signal(SIGXFSZ, SIG_IGN);  // a file-size limit fails the write (EFBIG), which is reported, instead of killing
+  const int status = run_subcommand(argc, argv);
+  if (hdf5_cannot_shut_down()) {  // its error is printed; HDF5's exit handler would crash
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    std::_Exit(status);
+  }
+  return status;
 }
 
 }  // namespace fscil

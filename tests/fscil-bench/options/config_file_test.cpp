@@ -13,10 +13,11 @@ namespace {
 
 using Words = std::vector<std::string>;
 
-bool run_option(const std::string& name) {
-  static const std::set<std::string> options = {"--methods", "--dataset", "--seeds", "--threads", "--save-model",
-                                                "--quiet", "--set", "--profile", "--config"};
-  return options.count(name) > 0;
+OptionKind run_option(const std::string& name) {
+  static const std::set<std::string> flags = {"--save-model", "--quiet"};
+  static const std::set<std::string> options = {"--methods", "--dataset", "--seeds", "--threads",
+                                                "--set",     "--profile", "--config"};
+  return flags.count(name) > 0 ? OptionKind::flag : options.count(name) > 0 ? OptionKind::takes_value : OptionKind::unknown;
 }
 
 std::filesystem::path write(const TemporaryDirectory& directory, const std::string& text) {
@@ -66,6 +67,10 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
       {"{\"set\": [\"shot=3\"]}", "\"set\": expected an object of keys and values"},
       {"{\"grid\": {\"shot\": 3}}", "\"grid\".shot: expected a list of values"},
       {"{\"grid\": {\"shot\": [1, 5]}}", "\"grid\" needs the sweep, plan, run-cells or slurm subcommand"},
+      // A flag's "yes" was once read as a stray word of the command line, a value option's true as a flag.
+      {"{\"save-model\": \"yes\"}", "\"save-model\": expected true or false, found \"yes\""},
+      {"{\"threads\": true}", "\"threads\": expected a value, found true"},
+      {"{\"methods\": \"a\", \"methods\": \"b\"}", "key 'methods' given twice"},
   };
   for (const auto& [text, message] : bad) {
     const auto file = write(directory, text);

@@ -184,6 +184,32 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
   return records;
 }
 
+void require_results_of_the_command(const std::vector<RunRecord>& records, const std::string& results,
+                                    const std::string& methods, const std::vector<std::string>& grid) {
+  const auto any_of = [&](const auto& matches) { return std::any_of(records.begin(), records.end(), matches); };
+  if (!methods.empty()) {
+    for (const std::string& method : resolve_method_names(methods)) {
+      if (!any_of([&](const RunRecord& record) { return record.method == method; })) {
+        throw CliError(fmt::format("--methods: {} holds no result file of {}", results, method));
+      }
+    }
+  }
+  if (grid.empty()) return;
+  std::vector<std::string> cells;
+  for (const auto& cell : grid_cells(parse_grid(grid))) cells.push_back(grid_cell_name(cell));
+  for (const std::string& cell : cells) {
+    if (!any_of([&](const RunRecord& record) { return grid_cell_name(record.grid) == cell; })) {
+      throw CliError(fmt::format("--grid: {} holds no result file of cell {}", results, cell));
+    }
+  }
+  for (const RunRecord& record : records) {
+    if (std::find(cells.begin(), cells.end(), grid_cell_name(record.grid)) == cells.end()) {
+      throw CliError(fmt::format("--grid: {} is of cell '{}', which this --grid does not name", record.source,
+                                 grid_cell_name(record.grid)));
+    }
+  }
+}
+
 std::string write_command_tables(const RunOptions& options, const std::vector<std::string>& grid) {
   return write_reports(options.out, load_command_records(options.out, options.methods, grid));
 }

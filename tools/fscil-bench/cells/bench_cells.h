@@ -60,6 +60,12 @@ std::string run_cell(const RunOptions& options, const std::vector<std::string>& 
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid);
 
+// CliError when `records` (of `results`) are not those of the command `methods` and `grid` name:
+// a named method or grid cell without a result file, or a result file of a cell the grid does not
+// name (report --methods/--grid on the wrong folder said nothing).
+void require_results_of_the_command(const std::vector<RunRecord>& records, const std::string& results,
+                                    const std::string& methods, const std::vector<std::string>& grid);
+
 // The command's tables over every cell's result files in --out; returns the Markdown.
 std::string write_command_tables(const RunOptions& options, const std::vector<std::string>& grid);
 

@@ -7,6 +7,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <vector>
 
 #include "core/error.h"
 
@@ -18,6 +19,11 @@ namespace {
 // held (no .lock, no result files) a file of one of these names is the user's.
 constexpr const char* kTableNames[] = {"summary.csv", "sessions.csv", "results.tex", "costs.csv", "costs.tex",
                                        "index.html", "paper_comparison.csv", "context_analysis.csv"};
+
+// The folders fscil-bench writes below an --out: in a folder it never held, a file in one of them is
+// the user's (a checkpoint of theirs would be removed, a figure or log replaced).
+constexpr const char* kFolderNames[] = {"results", "checkpoints", "figures", "logs", "models",
+                                        "embeddings", "cells", "cell-logs", "slurm"};
 
 enum class Locked { yes, busy };
 
@@ -38,18 +44,55 @@ Locked lock_file(const std::filesystem::path& file, int operation, int& descript
 void refuse_files_not_ours(const std::filesystem::path& folder) {
   namespace fs = std::filesystem;
   std::error_code error;
-  if (!fs::is_directory(folder, error) || fs::exists(folder / ".lock", error)) return;
+  if (!fs::is_directory(folder, error)) return;
+  for (const char* name : kFolderNames) {
+    const fs::path sub = folder / name;
+    if (fs::exists(fs::symlink_status(sub, error)) && !fs::is_directory(fs::symlink_status(sub, error))) {
+      throw ProtocolError(fmt::format("--out {}: {} is not a folder, and fscil-bench writes its {} there; move it away "
+                                      "or choose another --out", folder.string(), sub.string(), name));
+    }
+  }
+  if (fs::exists(folder / ".lock", error)) return;
   // Result files mark a folder fscil-bench wrote before it had a .lock, or that was copied without it.
   if (fs::is_directory(folder / "results", error)) {
     for (const auto& entry : fs::directory_iterator(folder / "results", error)) {
       if (entry.path().extension() == ".json") return;
     }
   }
+  std::vector<fs::path> would_replace;
   for (const char* name : kTableNames) {
-    if (fs::exists(folder / name, error)) {
-      throw ProtocolError(fmt::format("--out {}: {} would be replaced, and nothing says fscil-bench wrote it (the "
-                                      "folder has no .lock and no result files); move it away or choose another --out",
-                                      folder.string(), (folder / name).string()));
+    if (fs::exists(folder / name, error)) would_replace.push_back(folder / name);
+  }
+  for (const char* name : kFolderNames) {
+    fs::recursive_directory_iterator entry(folder / name, error), end;
+    for (; !error && entry != end; entry.increment(error)) {
+      if (!entry->is_directory(error)) would_replace.push_back(entry->path());
+    }
+    error.clear();
+  }
+  if (!would_replace.empty()) {
+    throw ProtocolError(fmt::format("--out {}: {} would be replaced, and nothing says fscil-bench wrote it (the "
+                                    "folder has no .lock and no result files); move it away or choose another --out",
+                                    folder.string(), would_replace.front().string()));
+  }
+}
+
+void refuse_folder_being_written(const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error)) {
+    const std::string name = entry->path().filename().string();
+    if (name != ".lock" && name.rfind(".lock-", 0) != 0) continue;
+    const int descriptor = ::open(entry->path().c_str(), O_RDONLY | O_CLOEXEC);
+    if (descriptor < 0) continue;
+    // A shared lock is refused while a whole command holds .lock or a cell holds its .lock-RUN; a
+    // command that only shares the folder (run-cells) is found through its cells' locks.
+    const bool busy = ::flock(descriptor, (name == ".lock" ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+    ::close(descriptor);
+    if (busy) {
+      throw ProtocolError(fmt::format("--results {}: a fscil-bench command is still writing there ({} is held); its "
+                                      "tables would count the runs finished so far as all of them: wait for it",
+                                      folder.string(), name));
     }
   }
 }

@@ -12,9 +12,16 @@ namespace fscil {
 // `.lock` file also marks the folder as fscil-bench's (as result files in results/ do): a folder
 // with neither that holds a table fscil-bench would replace (summary.csv, index.html, ...) is the
 // user's, and is refused.
-// Throws ProtocolError when `folder` holds a table fscil-bench would replace but neither a `.lock`
-// nor result files: the table is the user's. Checked before any work, and again when locking.
+// Throws ProtocolError when `folder` holds a table fscil-bench would replace, or any file in a folder
+// it writes (checkpoints/, figures/, logs/, models/, ...), but neither a `.lock` nor result files:
+// the file is the user's; and when one of those folder names is a file. Checked before any work,
+// and again when locking.
 void refuse_files_not_ours(const std::filesystem::path& folder);
+
+// Throws ProtocolError when a command is still writing `folder` (its .lock or a cell's .lock-RUN is
+// held): its tables would count the runs finished so far as the whole command. Takes no lock and
+// creates no file.
+void refuse_folder_being_written(const std::filesystem::path& folder);
 
 class OutFolderLock {
  public:

@@ -185,9 +185,16 @@ class RerunCommand : public Subcommand {
     }
     RunOptions& run = invocation.run;
     if (!invocation.given("--out") && invocation.resume_dir.empty()) run.out = "rerun";
+    never_replace(file_);
     const RunRecord record = run_record_from_json_text(read_text_file(file_), file_);
     require_profile(record.profile, file_);
     run = rerun_options(record, run);
+    std::error_code error;
+    const auto replaced = std::filesystem::path(run.out) / "results" / std::filesystem::path(file_).filename();
+    if (std::filesystem::equivalent(replaced, file_, error)) {
+      throw CliError(fmt::format("rerun {}: --out {} holds this result file, which the rerun would replace (and its "
+                                 "times with it); give another --out", file_, run.out));
+    }
     fmt::print("{}", run_benchmark(run));
     return exit_status::success;
   }
@@ -260,7 +267,9 @@ class ReportCommand : public Subcommand {
     command.add_option("--paper-tables", paper_tables_, "the paper's tables (default: reports/reference/paper_tables.csv)");
   }
   int run(Invocation&) override {
+    refuse_folder_being_written(results_);
     const auto records = load_command_records(results_, methods_, grid_);
+    require_results_of_the_command(records, results_, methods_, grid_);
     const std::filesystem::path directory = out_.empty() ? results_ : out_;
     std::optional<OutFolderLock> claimed;  // another folder's files may be the user's
     if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
@@ -287,6 +296,7 @@ class AnalyzeCommand : public Subcommand {
     command.add_option("--out", out_, "where to write context_analysis.csv (default: the results directory)");
   }
   int run(Invocation&) override {
+    refuse_folder_being_written(results_);
     const auto records = load_run_records(results_);
     write_file_atomically(std::filesystem::path(out_.empty() ? results_ : out_) / "context_analysis.csv",
                           render_context_analysis_csv(records));
@@ -305,7 +315,10 @@ class CheckCommand : public Subcommand {
     command.add_option("--reference", reference_, "reference CSV (e.g. reports/reference/simtex-mini-smoke.csv)")
         ->required();
   }
-  int run(Invocation&) override { return check_reference(results_, reference_); }
+  int run(Invocation&) override {
+    refuse_folder_being_written(results_);
+    return check_reference(results_, reference_);
+  }
 
  private:
   std::string results_, reference_;
@@ -321,6 +334,7 @@ class ReferenceCommand : public Subcommand {
         ->capture_default_str();
   }
   int run(Invocation&) override {
+    refuse_folder_being_written(results_);
     write_reference(results_, out_, tolerance_);
     return exit_status::success;
   }

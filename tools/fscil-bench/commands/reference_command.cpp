@@ -13,6 +13,7 @@ namespace fscil {
 void write_reference(const std::string& results, const std::string& out, double tolerance) {
   if (!(tolerance >= 0)) throw ReportError(fmt::format("--tolerance {}: expected a value >= 0", tolerance));
   const auto records = load_run_records(results);
+  require_replaceable(out);
   if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));
   const auto values = reference_values_of(records, tolerance);
   write_file_atomically(out, render_reference_csv(values, kRegenerateReferences));

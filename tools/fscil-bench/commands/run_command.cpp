@@ -18,6 +18,7 @@
 #include "methods/common/supervised_training.h"
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
+#include "metrics/convergence.h"
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "core/error.h"
@@ -128,7 +129,8 @@ void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& o
   }
 }
 
-// The sessions --save-embeddings names, as a test of a session number (of `sessions`).
+// The sessions --save-embeddings names, as a test of a session number (of `sessions`; 0 before the
+// sessions are drawn, which checks the list's form alone).
 std::function<bool(int)> sessions_to_save(const std::string& text, int sessions) {
   if (text.empty()) return {};
   if (text == "all") return [](int) { return true; };
@@ -139,11 +141,15 @@ std::function<bool(int)> sessions_to_save(const std::string& text, int sessions)
     const std::size_t comma = std::min(text.find(',', start), text.size());
     const std::string field = text.substr(start, comma - start);
     const auto session = parse_number<int>(field);
-    if (!session || *session < 0 || *session >= sessions) {
-      throw ProtocolError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0 to {}, "
-                                      "comma-separated", text, sessions - 1));
+    if (!session || *session < 0 || (sessions > 0 && *session >= sessions)) {
+      throw ProtocolError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0{}, "
+                                      "comma-separated", text,
+                                      sessions > 0 ? fmt::format(" to {}", sessions - 1) : std::string()));
     }
-    chosen.insert(*session);
+    if (!chosen.insert(*session).second) {
+      throw ProtocolError(fmt::format("--save-embeddings {}: session {} given twice; name each session once", text,
+                                      *session));
+    }
     start = comma + 1;
   }
   return [chosen](int session) { return chosen.count(session) > 0; };
@@ -197,6 +203,7 @@ void check_run_options(const RunOptions& options) {
     throw ProtocolError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the "
                                     "interrupted command)", options.out));
   }
+  sessions_to_save(options.save_embeddings, 0);  // its form before any work, its numbers once sessions are drawn
 }
 
 // Each seed's session schedule; refuses, before any training, a split the data lacks.
@@ -505,6 +512,10 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
     save_checkpoint(run.checkpoint_file, now);
     if (so_far.size() == 1) run.stages->file_trained();
     if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
+    if (run_verdict(judge_stages(so_far.front().training_log)) == TrainingVerdict::not_learning) {
+      progress.note("base session not cached: its training did not learn");  // a later run would take it as a base
+      return;
+    }
     try {
       now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
       runs.stage_cache.store(run.base_identity, now);

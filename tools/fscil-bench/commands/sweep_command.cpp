@@ -30,6 +30,10 @@ RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::strin
       }
     }
     if (key == "selection") {
+      if (sweep.selection != "last") {
+        throw CliError(fmt::format("--selection {} and --grid selection: a choice is either fixed or swept",
+                                   sweep.selection));
+      }
       if (!is_selection_name(value)) {
         throw CliError(fmt::format("--grid selection: --selection {}: expected last, validation or test-oracle", value));
       }

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "core/json_keys.h"
 #include "core/shown_text.h"
 #include "core/text_file.h"
@@ -53,7 +54,7 @@ json parse_config(const std::filesystem::path& file) {
   try {
     config = json::parse(text);
   } catch (const json::exception& error) {
-    throw CliError(fmt::format("--config {}: not JSON ({})", file.string(), error.what()));
+    throw CliError(fmt::format("--config {}: not JSON ({})", file.string(), json_error_text(error)));
   }
   if (!config.is_object()) throw CliError(fmt::format("--config {}: expected a JSON object of run options", file.string()));
   if (const auto key = duplicated_json_key(text)) {
@@ -101,7 +102,7 @@ std::string config_file_of(const std::vector<std::string>& command_line) {
 
 std::vector<std::string> with_config_file(const std::vector<std::string>& command_line,
                                           const std::filesystem::path& file,
-                                          const std::function<bool(const std::string&)>& is_option) {
+                                          const std::function<OptionKind(const std::string&)>& option_kind) {
   const json config = parse_config(file);
   std::vector<std::string> options;  // after the program name
   std::vector<std::string> grid;     // after the subcommand
@@ -124,12 +125,17 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
         }
         grid.insert(grid.end(), {"--grid", axis});
       }
-    } else if (key == "config" || !is_option("--" + key)) {
+    } else if (key == "config" || option_kind("--" + key) == OptionKind::unknown) {
       throw CliError(fmt::format("{}: not a run option (expected e.g. methods, dataset, seeds, set, grid)", where));
     } else if (command_line_gives(command_line, "--" + key)) {
       continue;  // the command line's own value wins
-    } else if (value.is_boolean()) {
+    } else if (option_kind("--" + key) == OptionKind::flag) {
+      if (!value.is_boolean()) {
+        throw CliError(fmt::format("{}: expected true or false, found {}", where, shown_text(value.dump())));
+      }
       if (value.get<bool>()) options.push_back("--" + key);
+    } else if (value.is_boolean()) {
+      throw CliError(fmt::format("{}: expected a value, found {}", where, value.dump()));
     } else {
       options.insert(options.end(), {"--" + key, text_of(value, where)});
     }

@@ -14,12 +14,13 @@ namespace fscil {
 // the subcommand that takes it. An option the command line gives itself is left out (the flag
 // overrides the file); the file's --set assignments come first, so the command line's assignment
 // of the same key replaces the file's, and a key the command line sweeps with --grid is taken from there alone.
-// `is_option` says whether "--name" is a run option. CliError naming the
-// file on anything else: unreadable JSON, an unknown key, a value of the wrong type, a grid
-// without a sweep, plan, run-cells or slurm subcommand.
+// `option_kind` says what "--name" is. CliError naming the file on anything else: unreadable JSON,
+// an unknown key, a value of the wrong type (a flag takes true or false, an option with a value
+// not), a grid without a sweep, plan, run-cells or slurm subcommand.
+enum class OptionKind { unknown, flag, takes_value };
 std::vector<std::string> with_config_file(const std::vector<std::string>& command_line,
                                           const std::filesystem::path& file,
-                                          const std::function<bool(const std::string&)>& is_option);
+                                          const std::function<OptionKind(const std::string&)>& option_kind);
 
 // The "set" block of a config file as key -> value text (numbers as written, booleans as
 // true/false): what the released dataset configs give as their datasets' defaults.

@@ -26,7 +26,8 @@ const std::vector<RunOption>& run_option_table() {
       {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, W::always, true, {}, true},
       {"--threads", "compute threads (0 = all cores)", &R::threads, W::never, true, ValidRange::between(0, kMaxThreads),
        true},
-      {"--out", "output directory for result files and tables", &R::out, W::always, false, {}, true},
+      {"--out", "output directory for result files and tables", &R::out, W::always, false, {}, true,
+       "expected a folder"},
       {"--features",
        "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the signals (auto: in "
        "memory up to 1 GiB)",
@@ -42,9 +43,11 @@ const std::vector<RunOption>& run_option_table() {
        "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
        "reference codes do: inflated, labelled so in every table)",
        &R::selection, W::always, true, {}, true},
-      {"--data-root", "root folder of a real dataset download", &R::data_root},
+      {"--data-root", "root folder of a real dataset download", &R::data_root, W::when_given, false, {}, false,
+       "expected a folder"},
       {"--cache-dir", "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)",
-       &R::cache_dir},
+       &R::cache_dir, W::when_given, false, {}, false,
+       "expected a folder; leave the option out for ~/.cache/fscil-bench"},
       {"--no-cache", "neither read nor write either cache", &R::no_cache},
       {"--no-stage-cache", "train every base session, even one the cache holds for exactly these inputs",
        &R::no_stage_cache},
@@ -85,7 +88,7 @@ void declare_run_options(CLI::App& app, RunOptions& options) {
             if (row.if_empty != nullptr) {
               const std::string refusal = row.if_empty;
               option->check(CLI::Validator(
-                  [refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, "SIZE"));
+                  [refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, ""));
             }
           }
         },

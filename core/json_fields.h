@@ -1,0 +1,147 @@
+#pragma once
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/json_keys.h"
+#include "core/shown_text.h"
+#include "core/valid_range.h"
+
+namespace fscil {
+
+// What the JSON library says, without its "[json.exception.parse_error.101] " prefix: a message
+// for a user, not a library's error code.
+inline std::string json_error_text(const nlohmann::json::exception& error) {
+  std::string text = error.what();
+  if (text.rfind("[json.exception.", 0) == 0) {
+    if (const auto close = text.find("] "); close != std::string::npos) text = text.substr(close + 2);
+  }
+  return text;
+}
+
+// The text of a JSON file as one object, read strictly: text that is not JSON, a key given twice in
+// one object (the library would keep the last without a word) or a top level that is not an object
+// is an error E naming `origin`.
+template <typename E>
+nlohmann::json parse_json_object(const std::string& text, const std::string& origin) {
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& error) {
+    throw E(fmt::format("{}: not JSON ({})", origin, json_error_text(error)));
+  }
+  if (const auto key = duplicated_json_key(text)) {
+    throw E(fmt::format("{}: field '{}' given twice in one object; give it once", origin, shown_text(*key)));
+  }
+  if (!document.is_object()) throw E(fmt::format("{}: expected a JSON object", origin));
+  return document;
+}
+
+// The fields of one object of a JSON file, read strictly, each failure an error E in one shape:
+//   "{origin}: field '{name}': expected {what}" (a wrong type or value),
+//   "{origin}: field '{name}' missing, expected {what}",
+//   "{origin}: unknown field '{name}', expected one of a, b, c",
+// where name is the field's path from the top ("inference.macs"). The reader of result files,
+// dataset.json and configs alike; no message of the JSON library reaches a user.
+template <typename E>
+class JsonFields {
+ public:
+  JsonFields(const nlohmann::json& object, std::string origin, std::string path = "")
+      : object_(object), origin_(std::move(origin)), path_(std::move(path)) {
+    if (!object_.is_object()) throw E(fmt::format("{}: field '{}': expected an object", origin_, path_));
+  }
+
+  bool has(const std::string& key) const { return object_.contains(key); }
+
+  const nlohmann::json& at(const std::string& key, const char* expected) const {
+    if (!has(key)) throw E(fmt::format("{}: field '{}' missing, expected {}", origin_, name(key), expected));
+    return object_.at(key);
+  }
+
+  std::string text(const std::string& key) const {
+    const auto& value = at(key, "a string");
+    if (!value.is_string()) fail(key, "a string, found " + shown_text(value.dump()));
+    return value.template get<std::string>();
+  }
+  std::string text(const std::string& key, const std::string& fallback) const { return has(key) ? text(key) : fallback; }
+
+  double number(const std::string& key, const ValidRange& valid = ValidRange::any()) const {
+    const auto& value = at(key, "a number");
+    if (!value.is_number() || !valid.contains(value.template get<double>())) {
+      fail(key, "a number " + valid.describe() + ", found " + shown_text(value.dump()));
+    }
+    return value.template get<double>();
+  }
+
+  // A whole number from `least` that fits T (get<T>() would convert 1e300 or -1.5 with undefined
+  // behaviour).
+  template <typename T>
+  T whole(const std::string& key, T least = std::numeric_limits<T>::min()) const {
+    const auto& value = at(key, "a whole number");
+    bool fits = false;
+    if (value.is_number_unsigned()) {
+      const auto number = value.template get<std::uint64_t>();
+      fits = number <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()) &&
+             (least <= 0 || number >= static_cast<std::uint64_t>(least));
+    } else if (value.is_number_integer()) {
+      const auto number = value.template get<std::int64_t>();
+      fits = number >= static_cast<std::int64_t>(least) &&
+             (number < 0 || static_cast<std::uint64_t>(number) <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()));
+    }
+    if (!fits) {
+      fail(key, fmt::format("a whole number from {} to {}, found {}", least, std::numeric_limits<T>::max(),
+                            shown_text(value.dump())));
+    }
+    return value.template get<T>();
+  }
+
+  // An object of strings ({"shot": "5"}): numbers or lists among its values are refused.
+  std::map<std::string, std::string> texts(const std::string& key) const {
+    std::map<std::string, std::string> values;
+    for (const auto& [name, value] : object(key).object_.items()) {
+      if (!value.is_string()) fail(key + "." + name, "a string, found " + shown_text(value.dump()));
+      values[name] = value.template get<std::string>();
+    }
+    return values;
+  }
+
+  JsonFields object(const std::string& key) const {
+    const auto& value = at(key, "an object");
+    if (!value.is_object()) fail(key, "an object, found " + shown_text(value.dump()));
+    return JsonFields(value, origin_, name(key));
+  }
+
+  // A misspelt or foreign field would be ignored without a word: every key must be one of `known`.
+  void require_known_keys(const std::vector<std::string>& known) const {
+    for (const auto& [key, value] : object_.items()) {
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        throw E(fmt::format("{}: unknown field '{}', expected one of {}", origin_, name(shown_text(key)),
+                            fmt::join(known, ", ")));
+      }
+    }
+  }
+
+  [[noreturn]] void fail(const std::string& key, const std::string& expected) const {
+    throw E(fmt::format("{}: field '{}': expected {}", origin_, name(key), expected));
+  }
+
+  const nlohmann::json& json() const { return object_; }
+  const std::string& origin() const { return origin_; }
+
+ private:
+  std::string name(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+  const nlohmann::json& object_;
+  std::string origin_;
+  std::string path_;
+};
+
+}  // namespace fscil
