@@ -215,12 +215,12 @@ PreparedDataset build_rendered(const RenderedDataset& entry, const DatasetReques
 PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& request, const ParameterSet& params,
                            std::ostream& log) {
   if (request.data_root.empty()) {
-    throw DatasetError(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
+    throw DataNotHere(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
                                    "and lay it out as {}", entry.name, entry.where, entry.layout));
   }
   if (!fs::is_directory(request.data_root)) {
     std::error_code error;
-    throw DatasetError(fmt::format("--data-root {}: {} (expected a folder laid out as {})", request.data_root.string(),
+    throw DataNotHere(fmt::format("--data-root {}: {} (expected a folder laid out as {})", request.data_root.string(),
                                    fs::exists(request.data_root, error) ? "a file, not a folder" : "no such folder",
                                    entry.layout));
   }

@@ -5,11 +5,18 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "datasets/prepared_dataset.h"
 
 namespace fscil {
 
 class ParameterSet;
+
+// A real dataset whose files are not on this machine (no --data-root, or no such folder): what
+// plan and the cell checks cannot check here, unlike a bad value.
+struct DataNotHere : DatasetError {
+  using DatasetError::DatasetError;
+};
 
 struct CatalogEntry {
   std::string name;

@@ -188,6 +188,16 @@ const HostileCase kCases[] = {
     {"selection_fixed_and_swept",
      "plan --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --selection validation "
      "--grid selection=last,test-oracle --no-estimate", 2, "--selection validation and --grid selection: a choice is either"},
+    // Every cell is checked before it is listed, scripted or started: once, not in every task.
+    {"plan_with_a_grid_key_no_one_reads",
+     "plan --methods prototype --dataset simtex-mini --profile smoke --no-cache --out {root}/out --grid bogus=1,2", 1,
+     "--grid bogus: no dataset, protocol or method of this run reads it"},
+    {"slurm_with_a_grid_value_no_run_takes",
+     "slurm --methods prototype --dataset simtex-mini --profile smoke --no-cache --out {root}/out --time 1:00:00 "
+     "--grid shot=0,1", 1, "shot"},
+    {"run_cells_with_a_value_no_run_takes",
+     "run-cells --methods prototype --dataset simtex-mini --profile smoke --no-cache --quiet --seeds 1-2 "
+     "--out {root}/out --set shot=0", 1, "shot"},
     // report reads what the command it names wrote, and says so when the folder holds something else.
     {"report_of_a_method_the_folder_lacks", "report --results {root}/runs --methods orco,prototype --out {root}/tables", 2,
      "runs holds no result file of prototype",

@@ -99,7 +99,7 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   std::filesystem::create_directories(out.path() / "results");
   std::ofstream(out.path() / "results" / "odd.json") << "{\"method\": \"\xff\x1b[2J\x07" << std::string(5000, 'x');
   const CommandResult odd = run_cli("report --results " + out.path().string());
-  expect_one_error_line(odd, "odd.json: not a valid result file");
+  expect_one_error_line(odd, "odd.json: not JSON (parse error at line 1, column 13");
   EXPECT_EQ(odd.output.find_first_of("\x1b\x07\xff"), std::string::npos) << odd.output;
 }
 

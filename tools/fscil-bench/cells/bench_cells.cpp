@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <tuple>
 
+#include "datasets/dataset_catalog.h"
 #include "methods/method.h"
 #include "methods/method_registry.h"
 #include "core/parameter_set.h"
@@ -182,6 +183,18 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
   std::stable_sort(records.begin(), records.end(),
                    [&](const RunRecord& a, const RunRecord& b) { return position(a) < position(b); });
   return records;
+}
+
+void check_every_cell(const RunOptions& options, const std::vector<std::string>& grid) {
+  std::vector<std::map<std::string, std::string>> cells = {{}};
+  if (!grid.empty()) cells = grid_cells(parse_grid(grid));
+  for (const auto& cell : cells) {
+    try {
+      command_sizes(grid.empty() ? options : sweep_cell_options(options, cell));
+    } catch (const DataNotHere&) {
+      return;
+    }
+  }
 }
 
 void require_results_of_the_command(const std::vector<RunRecord>& records, const std::string& results,

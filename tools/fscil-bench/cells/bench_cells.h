@@ -60,6 +60,12 @@ std::string run_cell(const RunOptions& options, const std::vector<std::string>& 
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid);
 
+// Every distinct grid cell checked as its run would check it (options, values, keys no one reads;
+// the dataset prepared, the methods built) before a cell is listed, scripted or started: a bad
+// --grid value fails here once, not in every task. A real dataset whose files are not on this
+// machine cannot be checked here, and is not.
+void check_every_cell(const RunOptions& options, const std::vector<std::string>& grid);
+
 // CliError when `records` (of `results`) are not those of the command `methods` and `grid` name:
 // a named method or grid cell without a result file, or a result file of a cell the grid does not
 // name (report --methods/--grid on the wrong folder said nothing).

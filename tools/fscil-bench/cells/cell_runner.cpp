@@ -75,6 +75,7 @@ std::string run_cells(const RunOptions& options, const std::vector<std::string>&
                       const std::string& executable) {
   if (jobs < 1) throw CliError(fmt::format("--jobs {}: expected at least 1", jobs));
   const auto cells = plan_cells(options, grid);
+  check_every_cell(options, grid);  // once, before any cell starts, not once per cell spawned
   jobs = std::min<int>(jobs, static_cast<int>(cells.size()));  // the threads go to cells that run
   const int threads = threads_per_cell(options.threads, jobs);
   const OutFolderLock folder = OutFolderLock::shared(options.out);  // no whole command on it meanwhile

@@ -20,10 +20,10 @@ namespace {
 constexpr const char* kTableNames[] = {"summary.csv", "sessions.csv", "results.tex", "costs.csv", "costs.tex",
                                        "index.html", "paper_comparison.csv", "context_analysis.csv"};
 
-// The folders fscil-bench writes below an --out: in a folder it never held, a file in one of them is
-// the user's (a checkpoint of theirs would be removed, a figure or log replaced).
-constexpr const char* kFolderNames[] = {"results", "checkpoints", "figures", "logs", "models",
-                                        "embeddings", "cells", "cell-logs", "slurm"};
+// The folders a run writes below an --out: in a folder it never held, a file in one of them is the
+// user's (a checkpoint of theirs would be removed, a figure or log replaced). Not cell-logs/: Slurm
+// writes a task's log there before the task's fscil-bench starts.
+constexpr const char* kFolderNames[] = {"results", "checkpoints", "figures", "logs", "models", "embeddings", "cells"};
 
 enum class Locked { yes, busy };
 

@@ -13,7 +13,7 @@ namespace fscil {
 // with neither that holds a table fscil-bench would replace (summary.csv, index.html, ...) is the
 // user's, and is refused.
 // Throws ProtocolError when `folder` holds a table fscil-bench would replace, or any file in a folder
-// it writes (checkpoints/, figures/, logs/, models/, ...), but neither a `.lock` nor result files:
+// a run writes (checkpoints/, figures/, logs/, models/, ...), but neither a `.lock` nor result files:
 // the file is the user's; and when one of those folder names is a file. Checked before any work,
 // and again when locking.
 void refuse_files_not_ours(const std::filesystem::path& folder);

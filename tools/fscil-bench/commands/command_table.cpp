@@ -115,7 +115,7 @@ class PlanCommand : public CellsCommand {
     if (!missing_only_ && !no_estimate_) {
       try {
         estimate_cells(invocation.run, grid_, cells);
-      } catch (const Error& error) {  // e.g. a real dataset on a machine without its data: the cells still list
+      } catch (const DataNotHere& error) {  // a real dataset on a machine without its data: the cells still list
         for (BenchCell& cell : cells) cell.estimated_seconds = -1;
         fmt::print(stderr, "fscil-bench plan: no time estimate: {}\n", error.what());
       }

@@ -69,14 +69,17 @@ ParameterSet base_parameters(const RunOptions& options) {
   return params;
 }
 
-// A --set key that no dataset, protocol or method reads is a typo: refuse it before training.
-void reject_unread_keys(const ParameterSet& params, const std::vector<const ParameterSet*>& readers) {
+// A --set or --grid key that no dataset, protocol or method reads is a typo: refuse it before
+// training, named by the option that gave it.
+void reject_unread_keys(const ParameterSet& params, const std::vector<const ParameterSet*>& readers,
+                        const std::map<std::string, std::string>& grid) {
   ParameterSet combined = params;
   for (const auto* reader : readers) combined.mark_read(reader->read_keys());
   const auto unread = combined.unread_keys();
   if (!unread.empty()) {
-    throw ProtocolError(fmt::format("--set {}: no dataset, protocol or method of this run reads it",
-                                    fmt::join(unread, ", ")));
+    const bool swept = grid.count(*unread.begin()) > 0;
+    throw ProtocolError(fmt::format("{} {}: no dataset, protocol or method of this run reads it",
+                                    swept ? "--grid" : "--set", fmt::join(unread, ", ")));
   }
 }
 
@@ -270,7 +273,7 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   plan.save_session = sessions_to_save(options.save_embeddings, plan.schedules.front().plan.sessions);
   std::vector<const ParameterSet*> readers = {&plan.protocol_params, &plan.dataset_params};
   for (const auto& method_param : plan.method_params) readers.push_back(&method_param);
-  reject_unread_keys(plan.params, readers);
+  reject_unread_keys(plan.params, readers, options.grid);
 
   plan.protocol_parameters = plan.dataset_params.used();
   for (const auto& [key, value] : plan.protocol_params.used()) plan.protocol_parameters[key] = value;

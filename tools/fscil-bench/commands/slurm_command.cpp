@@ -169,6 +169,7 @@ std::string run_slurm(const RunOptions& options, const std::vector<std::string>&
   const fs::path logs = fs::absolute(options.out) / "cell-logs";
   check_slurm_values(slurm, logs);
   const auto cells = plan_cells(options, grid);
+  check_every_cell(options, grid);  // a script whose every task fails on a bad value is no script
   std::vector<int> chosen;
   for (const auto& cell : cells) {
     if (!slurm.missing_only || !cell_has_results(options, cell)) chosen.push_back(cell.index);
