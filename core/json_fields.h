@@ -8,6 +8,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -25,6 +26,29 @@ inline std::string json_error_text(const nlohmann::json::exception& error) {
     if (const auto close = text.find("] "); close != std::string::npos) text = text.substr(close + 2);
   }
   return text;
+}
+
+// Whether `value` is a whole number from `least` that fits T: what a reader checks before get<T>(),
+// which would convert 1e300 or -1.5 with undefined behaviour.
+template <typename T>
+bool fits_whole_number(const nlohmann::json& value, T least) {
+  constexpr auto most = static_cast<std::uint64_t>(std::numeric_limits<T>::max());
+  const auto from_least = [least](std::uint64_t number) {
+    if constexpr (std::is_signed_v<T>) {
+      if (least < 0) return true;
+    }
+    return number >= static_cast<std::uint64_t>(least);
+  };
+  if (value.is_number_unsigned()) {
+    const auto number = value.template get<std::uint64_t>();
+    return number <= most && from_least(number);
+  }
+  if (value.is_number_integer()) {
+    const auto number = value.template get<std::int64_t>();
+    return number < 0 ? std::is_signed_v<T> && number >= static_cast<std::int64_t>(least)
+                      : static_cast<std::uint64_t>(number) <= most && from_least(static_cast<std::uint64_t>(number));
+  }
+  return false;
 }
 
 // The text of a JSON file as one object, read strictly: text that is not JSON, a key given twice in
@@ -86,17 +110,7 @@ class JsonFields {
   template <typename T>
   T whole(const std::string& key, T least = std::numeric_limits<T>::min()) const {
     const auto& value = at(key, "a whole number");
-    bool fits = false;
-    if (value.is_number_unsigned()) {
-      const auto number = value.template get<std::uint64_t>();
-      fits = number <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()) &&
-             (least <= 0 || number >= static_cast<std::uint64_t>(least));
-    } else if (value.is_number_integer()) {
-      const auto number = value.template get<std::int64_t>();
-      fits = number >= static_cast<std::int64_t>(least) &&
-             (number < 0 || static_cast<std::uint64_t>(number) <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()));
-    }
-    if (!fits) {
+    if (!fits_whole_number<T>(value, least)) {
       fail(key, fmt::format("a whole number from {} to {}, found {}", least, std::numeric_limits<T>::max(),
                             shown_text(value.dump())));
     }

@@ -15,7 +15,6 @@
 #include "core/json_fields.h"
 #include "core/valid_range.h"
 #include "core/number_text.h"
-#include "metrics/json_numbers.h"
 #include "metrics/session_json.h"
 
 namespace fscil {
