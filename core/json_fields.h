@@ -105,6 +105,48 @@ class JsonFields {
     return value.template get<double>();
   }
 
+  double number(const std::string& key, const ValidRange& valid, double fallback) const {
+    return has(key) ? number(key, valid) : fallback;
+  }
+
+  // A whole number in `valid` (an int64).
+  std::int64_t integer(const std::string& key, const ValidRange& valid) const {
+    const auto& value = at(key, "an integer");
+    if (!fits_whole_number<std::int64_t>(value, std::numeric_limits<std::int64_t>::min()) ||
+        !valid.contains(static_cast<double>(value.template get<std::int64_t>()))) {
+      fail(key, "an integer " + valid.describe() + ", found " + shown_text(value.dump()));
+    }
+    return value.template get<std::int64_t>();
+  }
+  std::int64_t integer(const std::string& key, const ValidRange& valid, std::int64_t fallback) const {
+    return has(key) ? integer(key, valid) : fallback;
+  }
+
+  bool flag(const std::string& key, bool fallback) const {
+    if (!has(key)) return fallback;
+    const auto& value = object_.at(key);
+    if (!value.is_boolean()) fail(key, "true or false, found " + shown_text(value.dump()));
+    return value.template get<bool>();
+  }
+
+  // A non-empty list of distinct, non-empty names.
+  std::vector<std::string> names(const std::string& key) const {
+    const auto& list = at(key, "a list of names");
+    if (!list.is_array() || list.empty()) fail(key, "a non-empty list of names, found " + shown_text(list.dump()));
+    std::vector<std::string> result;
+    for (const auto& item : list) {
+      if (!item.is_string() || item.template get<std::string>().empty()) {
+        fail(key, "a list of names, found " + shown_text(item.dump()));
+      }
+      const std::string name = item.template get<std::string>();
+      if (std::find(result.begin(), result.end(), name) != result.end()) {
+        fail(key, fmt::format("a list of distinct names ('{}' is listed twice)", shown_text(name)));
+      }
+      result.push_back(name);
+    }
+    return result;
+  }
+
   // A whole number from `least` that fits T (get<T>() would convert 1e300 or -1.5 with undefined
   // behaviour).
   template <typename T>
@@ -125,6 +167,12 @@ class JsonFields {
       values[name] = value.template get<std::string>();
     }
     return values;
+  }
+
+  // An optional object: absent, it reads as one with no fields.
+  JsonFields section(const std::string& key) const {
+    static const nlohmann::json no_fields = nlohmann::json::object();
+    return has(key) ? object(key) : JsonFields(no_fields, origin_, name(key));
   }
 
   JsonFields object(const std::string& key) const {

@@ -14,6 +14,19 @@
 
 namespace fscil {
 
+namespace {
+
+// A value's text names its run (results, sweep cells): "+5" beside "5" would be two cells of one
+// value, so parameters take no '+' (data files, read by the same parser, may).
+void refuse_plus_sign(const std::string& key, const std::string& value) {
+  if (!value.empty() && value.front() == '+') {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected the number without '+' (the value's text names the "
+                                    "run, and '{}' would be another)", key, shown_text(value), shown_text(value.substr(1))));
+  }
+}
+
+}  // namespace
+
 void ParameterSet::set(const std::string& key, const std::string& value) {
   values_[key] = value;
   defaults_.erase(key);
@@ -49,6 +62,7 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
     remember(key, fmt::format("{}", fallback));
     return fallback;
   }
+  refuse_plus_sign(key, *value);
   const auto parsed = parse_finite_number(*value);
   if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
   if (!valid.contains(*parsed)) {
@@ -69,6 +83,7 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
     remember(key, std::to_string(fallback));
     return fallback;
   }
+  refuse_plus_sign(key, *value);
   const auto parsed = parse_number<std::int64_t>(*value);
   if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
   if (!valid.contains(static_cast<double>(*parsed))) {

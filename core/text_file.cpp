@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <system_error>
 
 #include "core/error.h"
 
@@ -22,6 +23,40 @@ std::string kind_of_node(const std::filesystem::file_status& status) {
     case std::filesystem::file_type::regular: return "a file";
     default: return "something other than a file";
   }
+}
+
+namespace {
+
+// What `path` is when it is no node of type `wanted` (a regular file or a folder); "" when it is.
+std::string why_not(const std::filesystem::path& path, std::filesystem::file_type wanted) {
+  namespace fs = std::filesystem;
+  const bool folder = wanted == fs::file_type::directory;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error == std::errc::too_many_symbolic_link_levels) return "a loop of symbolic links";
+  switch (status.type()) {
+    case fs::file_type::not_found:
+      if (fs::is_symlink(fs::symlink_status(path, error))) return "a symbolic link to nothing";
+      return folder ? "no such folder" : "no such file";
+    case fs::file_type::none:
+    case fs::file_type::unknown:
+      if (error) return "unreadable (" + error.message() + ")";
+      return folder ? "not a folder" : "not a regular file";
+    default:
+      if (status.type() == wanted) return "";
+      if (folder) return kind_of_node(status) + ", not a folder";
+      return kind_of_node(status) + (fs::is_directory(status) ? ", not a file" : ", not a regular file");
+  }
+}
+
+}  // namespace
+
+std::string why_not_a_regular_file(const std::filesystem::path& path) {
+  return why_not(path, std::filesystem::file_type::regular);
+}
+
+std::string why_not_a_folder(const std::filesystem::path& path) {
+  return why_not(path, std::filesystem::file_type::directory);
 }
 
 std::string read_text_file(const std::filesystem::path& path) {

@@ -11,4 +11,12 @@ std::string read_text_file(const std::filesystem::path& path);
 // "a folder", "a FIFO", "a character device", ...: what a path is, for messages.
 std::string kind_of_node(const std::filesystem::file_status& status);
 
+// What `path` is when it names no regular file, for an error message: "no such file", "a folder,
+// not a file", "a FIFO, not a regular file", "a loop of symbolic links", ... ("" for a regular file).
+std::string why_not_a_regular_file(const std::filesystem::path& path);
+
+// What `path` is when it names no folder: "no such folder", "a file, not a folder", "a FIFO, not a
+// folder", ... ("" for a folder, or a link to one).
+std::string why_not_a_folder(const std::filesystem::path& path);
+
 }  // namespace fscil

@@ -17,6 +17,7 @@
 #include "datasets/sf_instruments.h"
 #include "datasets/simtex.h"
 #include "core/parameter_set.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -140,6 +141,12 @@ PreparedDataset prepare_with_cache(const DatasetDescription& description, const 
   const SegmentCache cache(request.cache_dir);
   std::optional<SegmentSet> cached;
   if (!request.cache_dir.empty()) {
+    // A damaged cache file is rebuilt; a folder or a device in its place is not the cache's to replace.
+    const fs::path file = cache.path_for(description);
+    if (const std::string why = why_not_a_regular_file(file); fs::exists(fs::symlink_status(file)) && !why.empty()) {
+      throw DatasetError(fmt::format("{}: {}, where the segment cache keeps its file; move it away or choose another "
+                                     "--cache-dir", file.string(), why));
+    }
     std::string problem;
     cached = cache.load(description, &problem);
     if (!problem.empty()) fmt::print(log, "warning: {}; the cache file is rebuilt\n", problem);
@@ -218,11 +225,9 @@ PreparedDataset build_real(const RealDataset& entry, const DatasetRequest& reque
     throw DataNotHere(fmt::format("dataset '{}' is real data and needs --data-root DIR: download {} "
                                    "and lay it out as {}", entry.name, entry.where, entry.layout));
   }
-  if (!fs::is_directory(request.data_root)) {
-    std::error_code error;
+  if (const std::string why = why_not_a_folder(request.data_root); !why.empty()) {
     throw DataNotHere(fmt::format("--data-root {}: {} (expected a folder laid out as {})", request.data_root.string(),
-                                   fs::exists(request.data_root, error) ? "a file, not a folder" : "no such folder",
-                                   entry.layout));
+                                   why, entry.layout));
   }
   DatasetScan scan = entry.scan(fs::canonical(request.data_root), params);
   DatasetDescription& description = scan.description;

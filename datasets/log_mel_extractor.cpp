@@ -66,15 +66,14 @@ __attribute__((target_clones("avx2", "default"))) void decibels_in_place(float* 
   }
 }
 
-constexpr std::int64_t kMaxFftSize = std::int64_t{1} << 20;
-constexpr std::int64_t kMaxMelBins = 1024;
+constexpr std::int64_t kMaxFftSize = LogMelSettings::kMaxFftSize;
+constexpr std::int64_t kMaxMelBins = LogMelSettings::kMaxMelBins;
 
 // Checked before the filterbank is built from them.
 const LogMelSettings& checked(const LogMelSettings& settings) {
   const bool valid_rate = std::isfinite(settings.sample_rate) && settings.sample_rate > 0;
   const bool valid_band = std::isfinite(settings.f_min) && std::isfinite(settings.f_max) && settings.f_min >= 0 &&
                           settings.f_max >= 0;
-  // The filterbank holds (n_fft / 2 + 1) x n_mels weights: the bounds keep it under 2 GiB.
   const bool valid_sizes = settings.n_fft >= 2 && settings.n_fft <= kMaxFftSize && settings.hop >= 1 &&
                            settings.n_mels >= 1 && settings.n_mels <= kMaxMelBins;
   if (!valid_sizes || !valid_rate || !valid_band) {

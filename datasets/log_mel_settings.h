@@ -10,6 +10,10 @@ enum class MelNorm { none, slaney };
 
 // Parameters of the log-Mel front end; defaults follow torchaudio 0.13's MelSpectrogram.
 struct LogMelSettings {
+  // The filterbank holds (n_fft / 2 + 1) x n_mels weights: these bounds keep it under 2 GiB.
+  static constexpr std::int64_t kMaxFftSize = std::int64_t{1} << 20;
+  static constexpr std::int64_t kMaxMelBins = 1024;
+
   double sample_rate = 16000;
   std::int64_t n_fft = 400;
   std::int64_t hop = 200;
@@ -23,6 +27,8 @@ struct LogMelSettings {
   std::int64_t frequency_bins() const { return n_fft / 2 + 1; }
   // Frames produced for a signal of `length` samples.
   std::int64_t frames(std::int64_t length) const;
+  // Whether a signal of `length` samples gives a frame (and, centred, can be reflect-padded).
+  bool takes(std::int64_t length) const { return frames(length) >= 1 && (!center || length > n_fft / 2); }
   // Canonical text naming every value, for cache keys and result files.
   std::string describe() const;
 };

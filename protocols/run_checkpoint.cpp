@@ -11,6 +11,7 @@
 
 #include "core/stable_hash.h"
 #include "core/error.h"
+#include "core/text_file.h"
 #include "core/shown_text.h"
 #include "core/atomic_file.h"
 #include "metrics/session_json.h"
@@ -86,6 +87,11 @@ void save_checkpoint(const fs::path& path, const RunCheckpoint& checkpoint) {
 }
 
 RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_identity) {
+  // A folder opens as a stream that reads nothing: say what it is, not that a checkpoint is corrupt.
+  if (const std::string why = why_not_a_regular_file(path); !why.empty()) {
+    throw ProtocolError(fmt::format("{}: {}, expected a checkpoint file (move it away to start that run over)",
+                                    path.string(), why));
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ProtocolError(fmt::format("{}: cannot open the checkpoint", path.string()));
   const auto corrupt = [&] {

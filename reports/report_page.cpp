@@ -91,11 +91,10 @@ std::size_t json_files_in(const fs::path& folder) {
 }
 
 Folders folder_contents(const fs::path& root) {
-  std::error_code error;
-  if (!fs::is_directory(root, error)) {
-    throw ReportError(fmt::format("{}: not a results folder ({})", root.string(),
-                                  fs::exists(root, error) ? "a file" : "no such folder"));
+  if (const std::string why = why_not_a_folder(root); !why.empty()) {
+    throw ReportError(fmt::format("{}: {} (expected a results folder)", root.string(), why));
   }
+  std::error_code error;
   Folders folders;
   fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, error), end;
   for (; !error && it != end; it.increment(error)) {

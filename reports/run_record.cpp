@@ -235,10 +235,8 @@ void save_run_record(const fs::path& directory, const RunRecord& record) {
 }
 
 std::vector<RunRecord> load_run_records(const fs::path& directory) {
-  if (!fs::is_directory(directory)) {
-    std::error_code error;
-    throw ReportError(fmt::format("{}: {}, expected the --out folder of a run", directory.string(),
-                                  fs::exists(directory, error) ? "a file" : "no such folder"));
+  if (const std::string why = why_not_a_folder(directory); !why.empty()) {
+    throw ReportError(fmt::format("{}: {} (expected the --out folder of a run)", directory.string(), why));
   }
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(directory)) {

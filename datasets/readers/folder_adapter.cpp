@@ -8,10 +8,11 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "core/error.h"
-#include "core/json_keys.h"
+#include "core/json_fields.h"
 #include "core/text_file.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
@@ -25,6 +26,12 @@ using nlohmann::json;
 
 namespace {
 
+// Bounds before work grows: 10 MHz is past any tactile or audio sensor, and a segment of 100 M
+// samples (400 MB a channel) past any front end's input.
+constexpr double kMaxSampleRate = 1e7;
+constexpr double kMaxSegmentSamples = 1e8;
+constexpr int kMaxShot = 100000;
+
 // What a named dataset in the folder format must declare; absent fields take these values.
 struct FolderExpectation {
   std::string name;
@@ -35,99 +42,22 @@ struct FolderExpectation {
   SessionDefaults sessions;
 };
 
-// Reads dataset.json fields with errors naming the file, the field and the expected type.
-class DatasetJson {
- public:
-  explicit DatasetJson(const fs::path& path) : path_(path) {
-    if (!names_a_regular_file(path)) {
-      throw DatasetError(fmt::format("{}: {}, expected the folder format's dataset.json", path.string(),
-                                     why_not_a_regular_file(path)));
-    }
-    const std::string text = read_text_file(path);
-    try {
-      root_ = json::parse(text);
-    } catch (const json::exception& error) {
-      throw DatasetError(fmt::format("{}: not valid JSON ({})", path.string(), error.what()));
-    }
-    if (const auto key = duplicated_json_key(text)) {
-      throw DatasetError(fmt::format("{}: field '{}' given twice in one object; give it once", path.string(),
-                                     shown_text(*key)));
-    }
-    if (!root_.is_object()) throw DatasetError(fmt::format("{}: expected a JSON object", path.string()));
-  }
+using DatasetFields = JsonFields<DatasetError>;
 
-  const json& root() const { return root_; }
+// dataset.json as one object, read as strictly as every JSON file here (core/json_fields.h).
+json read_dataset_json(const fs::path& path) {
+  if (!names_a_regular_file(path)) {
+    throw DatasetError(fmt::format("{}: {}, expected the folder format's dataset.json", path.string(),
+                                   why_not_a_regular_file(path)));
+  }
+  return parse_json_object<DatasetError>(read_text_file(path), path.string());
+}
 
-  double number(const json& object, const std::string& field, const ValidRange& valid,
-                std::optional<double> fallback = {}) const {
-    if (!object.contains(field)) return required(field, fallback, "a number");
-    if (!object[field].is_number() || !valid.contains(object[field].get<double>())) {
-      fail(field, "a number " + valid.describe());
-    }
-    return object[field].get<double>();
-  }
-  std::int64_t integer(const json& object, const std::string& field, const ValidRange& valid,
-                       std::int64_t fallback) const {
-    if (!object.contains(field)) return fallback;
-    if (!object[field].is_number_integer() || !valid.contains(object[field].get<double>())) {
-      fail(field, "an integer " + valid.describe());
-    }
-    return object[field].get<std::int64_t>();
-  }
-  std::string text(const json& object, const std::string& field, std::optional<std::string> fallback = {}) const {
-    if (!object.contains(field)) return required(field, fallback, "a string");
-    if (!object[field].is_string()) fail(field, "a string");
-    return object[field].get<std::string>();
-  }
-  bool boolean(const json& object, const std::string& field, bool fallback) const {
-    if (!object.contains(field)) return fallback;
-    if (!object[field].is_boolean()) fail(field, "true or false");
-    return object[field].get<bool>();
-  }
-  std::vector<std::string> names(const json& object, const std::string& field,
-                                 std::optional<std::vector<std::string>> fallback = {}) const {
-    if (!object.contains(field)) return required(field, fallback, "a list of names");
-    const json& list = object[field];
-    if (!list.is_array() || list.empty()) fail(field, "a non-empty list of names");
-    std::vector<std::string> result;
-    for (const auto& item : list) {
-      if (!item.is_string() || item.get<std::string>().empty()) fail(field, "a list of names");
-      if (std::find(result.begin(), result.end(), item.get<std::string>()) != result.end()) {
-        fail(field, fmt::format("a list of distinct names ('{}' is listed twice)", shown_text(item.get<std::string>())));
-      }
-      result.push_back(item.get<std::string>());
-    }
-    return result;
-  }
-  const json& object(const std::string& field) const {
-    static const json empty = json::object();
-    if (!root_.contains(field)) return empty;
-    if (!root_[field].is_object()) fail(field, "an object");
-    return root_[field];
-  }
-  // A misspelt field would silently take its default: every key of `object` must be one of `known`.
-  void require_known_keys(const json& object, const std::string& where, const std::vector<std::string>& known) const {
-    for (const auto& [key, value] : object.items()) {
-      if (std::find(known.begin(), known.end(), key) == known.end()) {
-        throw DatasetError(fmt::format("{}: unknown field '{}{}', expected one of {}", path_.string(), where,
-                                       shown_text(key), fmt::join(known, ", ")));
-      }
-    }
-  }
-  [[noreturn]] void fail(const std::string& field, const std::string& expected) const {
-    throw DatasetError(fmt::format("{}: field '{}': expected {}", path_.string(), field, expected));
-  }
-
- private:
-  template <typename T>
-  T required(const std::string& field, const std::optional<T>& fallback, const std::string& expected) const {
-    if (!fallback) throw DatasetError(fmt::format("{}: field '{}' missing, expected {}", path_.string(), field, expected));
-    return *fallback;
-  }
-
-  fs::path path_;
-  json root_;
-};
+// A field a named dataset may leave to its expectation; required otherwise.
+template <typename T, typename Read>
+T field_or(const DatasetFields& fields, const std::string& key, const std::optional<T>& expected, Read read) {
+  return !fields.has(key) && expected ? *expected : read();
+}
 
 template <typename T>
 void require_value(const fs::path& path, const std::string& field, const T& got, const T& expected,
@@ -138,9 +68,13 @@ void require_value(const fs::path& path, const std::string& field, const T& got,
   }
 }
 
-LogMelSettings front_end_of(const DatasetJson& config, double sample_rate, const std::string& default_preset) {
-  const json& spec = config.object("front_end");
-  const std::string preset = config.text(spec, "preset", default_preset);
+LogMelSettings front_end_of(const DatasetFields& spec, double sample_rate, std::int64_t segment,
+                            const std::string& default_preset) {
+  const std::string preset = spec.text("preset", default_preset);
+  const auto presets = log_mel_preset_names();
+  if (!preset.empty() && std::find(presets.begin(), presets.end(), preset) == presets.end()) {
+    spec.fail("preset", fmt::format("one of {}", fmt::join(presets, ", ")));
+  }
   LogMelSettings settings;
   if (!preset.empty()) {
     settings = log_mel_preset(preset);
@@ -151,18 +85,27 @@ LogMelSettings front_end_of(const DatasetJson& config, double sample_rate, const
     settings.center = false;
   }
   settings.sample_rate = sample_rate;
-  settings.n_fft = config.integer(spec, "n_fft", ValidRange::at_least(2), settings.n_fft);
-  settings.hop = config.integer(spec, "hop", ValidRange::at_least(1), settings.hop);
-  settings.n_mels = config.integer(spec, "n_mels", ValidRange::at_least(1), settings.n_mels);
-  settings.f_min = config.number(spec, "f_min", ValidRange::at_least(0), settings.f_min);
-  settings.f_max = config.number(spec, "f_max", ValidRange::at_least(0), settings.f_max);
-  settings.center = config.boolean(spec, "center", settings.center);
+  settings.n_fft = spec.integer("n_fft", ValidRange::between(2, LogMelSettings::kMaxFftSize), settings.n_fft);
+  settings.hop = spec.integer("hop", ValidRange::at_least(1), settings.hop);
+  settings.n_mels = spec.integer("n_mels", ValidRange::between(1, LogMelSettings::kMaxMelBins), settings.n_mels);
+  settings.f_min = spec.number("f_min", ValidRange::at_least(0), settings.f_min);
+  settings.f_max = spec.number("f_max", ValidRange::at_least(0), settings.f_max);
+  settings.center = spec.flag("center", settings.center);
+  const double band_top = settings.f_max > 0 ? settings.f_max : sample_rate / 2;
+  if (settings.f_min >= band_top) {
+    spec.fail("f_min", fmt::format("a frequency below the band's top, {} Hz (f_max, or half the sample "
+                                               "rate when f_max is 0)", band_top));
+  }
+  if (!settings.takes(segment)) {
+    spec.fail("n_fft", fmt::format("a window {} the segment's {} samples (segment_seconds x sample_rate)",
+                                               settings.center ? "shorter than twice" : "no longer than", segment));
+  }
   return settings;
 }
 
 // Protocol defaults when dataset.json gives none: 5-way 5-shot, about 60% of classes in the base session.
-SessionDefaults sessions_of(const DatasetJson& config, int classes, const SessionDefaults& fallback) {
-  const json& spec = config.object("sessions");
+SessionDefaults sessions_of(const DatasetFields& top, int classes, const SessionDefaults& fallback) {
+  const DatasetFields spec = top.section("sessions");
   SessionDefaults defaults = fallback;
   if (defaults.sessions == 0) {
     const int incremental = std::max(1, classes * 2 / 5 / 5);
@@ -170,16 +113,16 @@ SessionDefaults sessions_of(const DatasetJson& config, int classes, const Sessio
     defaults = {classes - way * incremental, way, 5, 1 + incremental};
   }
   const auto count = [&](const char* field, int fallback, const ValidRange& valid) {
-    return static_cast<int>(config.integer(spec, field, valid, fallback));
+    return static_cast<int>(spec.integer(field, valid, fallback));
   };
   defaults.base_classes = count("base_classes", defaults.base_classes, ValidRange::between(1, classes));
   defaults.way = count("way", defaults.way, ValidRange::between(1, classes));
-  defaults.shot = count("shot", defaults.shot, ValidRange::at_least(1));
+  defaults.shot = count("shot", defaults.shot, ValidRange::between(1, kMaxShot));
   defaults.sessions = count("sessions", defaults.sessions, ValidRange::between(1, classes));
   // Classes no session takes would be in the data and in no result: say so rather than drop them.
   const std::int64_t used = defaults.base_classes + static_cast<std::int64_t>(defaults.way) * (defaults.sessions - 1);
-  if (spec.contains("sessions") && used != classes) {
-    config.fail("sessions", fmt::format("a protocol over the {} classes of the manifest: base_classes {} + way {} x "
+  if (spec.has("sessions") && used != classes) {
+    top.fail("sessions", fmt::format("a protocol over the {} classes of the manifest: base_classes {} + way {} x "
                                         "(sessions {} - 1) takes {}", classes, defaults.base_classes, defaults.way,
                                         defaults.sessions, used));
   }
@@ -261,40 +204,48 @@ SignalData read_folder_recording(const RecordingSource& source, const std::vecto
 
 DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected) {
   const fs::path config_path = root / "dataset.json";
-  const DatasetJson config(fenced_by_root(root, config_path));
-  const json& top = config.root();
-  config.require_known_keys(top, "", {"name", "sample_rate", "channels", "segment_seconds", "hop_seconds",
-                                      "max_segments_per_recording", "front_end", "sessions"});
-  config.require_known_keys(config.object("front_end"), "front_end.",
-                            {"preset", "n_fft", "hop", "n_mels", "f_min", "f_max", "center"});
-  config.require_known_keys(config.object("sessions"), "sessions.", {"base_classes", "way", "shot", "sessions"});
+  const json document = read_dataset_json(fenced_by_root(root, config_path));
+  const DatasetFields top(document, config_path.string());
+  top.require_known_keys({"name", "sample_rate", "channels", "segment_seconds", "hop_seconds",
+                          "max_segments_per_recording", "front_end", "sessions"});
+  top.section("front_end").require_known_keys({"preset", "n_fft", "hop", "n_mels", "f_min", "f_max", "center"});
+  top.section("sessions").require_known_keys({"base_classes", "way", "shot", "sessions"});
 
   DatasetScan scan;
   scan.root = root;
   DatasetDescription& d = scan.description;
-  d.name = config.text(top, "name", expected ? std::optional(expected->name) : std::nullopt);
+  const auto expectation = [expected](auto field) {
+    return expected ? std::optional(expected->*field) : std::nullopt;
+  };
+  d.name = field_or(top, "name", expectation(&FolderExpectation::name), [&] { return top.text("name"); });
   if (d.name.empty() || d.name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") !=
                             std::string::npos) {
-    config.fail("name", "letters, digits, '_', '.' or '-' (it names cache and result files)");
+    top.fail("name", "letters, digits, '_', '.' or '-' (it names cache and result files)");
   }
-  d.sample_rate = config.number(top, "sample_rate", ValidRange::above(0),
-                                expected ? std::optional(expected->sample_rate) : std::nullopt);
-  d.channel_names = config.names(top, "channels", expected ? std::optional(expected->channels) : std::nullopt);
-  const double segment_seconds =
-      config.number(top, "segment_seconds", ValidRange::above(0),
-                    expected ? std::optional(expected->segment_seconds) : std::nullopt);
-  const double hop_seconds = config.number(top, "hop_seconds", ValidRange::above(0), segment_seconds);
+  d.sample_rate = field_or(top, "sample_rate", expectation(&FolderExpectation::sample_rate),
+                           [&] { return top.number("sample_rate", ValidRange::above_up_to(0, kMaxSampleRate)); });
+  d.channel_names = field_or(top, "channels", expectation(&FolderExpectation::channels),
+                             [&] { return top.names("channels"); });
+  const double segment_seconds = field_or(top, "segment_seconds", expectation(&FolderExpectation::segment_seconds),
+                                          [&] { return top.number("segment_seconds", ValidRange::above(0)); });
+  const double hop_seconds = top.number("hop_seconds", ValidRange::above(0), segment_seconds);
   if (expected != nullptr) {
     require_value(config_path, "sample_rate", d.sample_rate, expected->sample_rate, expected->name);
     require_value(config_path, "channels", fmt::format("{}", fmt::join(d.channel_names, ",")),
                   fmt::format("{}", fmt::join(expected->channels, ",")), expected->name);
     require_value(config_path, "segment_seconds", segment_seconds, expected->segment_seconds, expected->name);
   }
+  for (const auto& [field, seconds] : {std::pair{"segment_seconds", segment_seconds}, {"hop_seconds", hop_seconds}}) {
+    const double samples = std::round(seconds * d.sample_rate);
+    if (samples < 1 || samples > kMaxSegmentSamples) {
+      top.fail(field, fmt::format("at least one and at most {:.0f} samples at sample_rate {} (it gives {:g})",
+                                  kMaxSegmentSamples, d.sample_rate, samples));
+    }
+  }
   const auto segment = static_cast<std::int64_t>(std::lround(segment_seconds * d.sample_rate));
   const auto hop = static_cast<std::int64_t>(std::lround(hop_seconds * d.sample_rate));
-  if (segment < 1 || hop < 1) config.fail("segment_seconds", "segment and hop of at least one sample");
-  d.segment = {segment, hop, config.integer(top, "max_segments_per_recording", ValidRange::at_least(0), 0)};
-  d.front_end = front_end_of(config, d.sample_rate, expected ? expected->preset : "");
+  d.segment = {segment, hop, top.integer("max_segments_per_recording", ValidRange::at_least(0), 0)};
+  d.front_end = front_end_of(top.section("front_end"), d.sample_rate, segment, expected ? expected->preset : "");
 
   const fs::path manifest_path = root / "manifest.csv";
   const TextTable manifest = read_text_table(fenced_by_root(root, manifest_path));
@@ -344,7 +295,7 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
     throw DatasetError(fmt::format("{}: 1 class, expected at least 2 (a class-incremental protocol needs base classes "
                                    "and new ones)", manifest_path.string()));
   }
-  d.sessions = sessions_of(config, static_cast<int>(d.class_names.size()),
+  d.sessions = sessions_of(top, static_cast<int>(d.class_names.size()),
                            expected ? expected->sessions : SessionDefaults{0, 5, 5, 0});
   d.source = expected ? expected->name : "folder";
   scan.read = [channels = d.channel_names](const RecordingSource& source) {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "core/error.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -16,26 +17,6 @@ namespace fscil {
 inline bool names_a_regular_file(const std::filesystem::path& path) {
   std::error_code unreadable;
   return std::filesystem::is_regular_file(path, unreadable);
-}
-
-// What `path` is when it names no regular file, for an error message: "no such file", "a folder",
-// "a FIFO", "a loop of symbolic links", ... ("" for a regular file).
-inline std::string why_not_a_regular_file(const std::filesystem::path& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (error == std::errc::too_many_symbolic_link_levels) return "a loop of symbolic links";
-  switch (status.type()) {
-    case fs::file_type::regular: return "";
-    case fs::file_type::directory: return "a folder, not a file";
-    case fs::file_type::fifo: return "a FIFO, not a regular file";
-    case fs::file_type::socket: return "a socket, not a regular file";
-    case fs::file_type::block:
-    case fs::file_type::character: return "a device, not a regular file";
-    case fs::file_type::not_found:
-      return fs::is_symlink(fs::symlink_status(path, error)) ? "a symbolic link to nothing" : "no such file";
-    default: return error ? "unreadable (" + error.message() + ")" : "not a regular file";
-  }
 }
 
 // `file` when it lies inside the data root `root` (canonical) once its symbolic links are resolved;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <vector>
 
 #include "core/csv_text.h"
 #include "core/error.h"
@@ -28,10 +29,25 @@ std::ifstream open_or_throw(const std::filesystem::path& path) {
   return in;
 }
 
-// The next line, without the byte-order mark a spreadsheet may put before the first one.
-bool next_line(std::ifstream& in, std::string& line, int& line_number) {
-  if (!std::getline(in, line)) return false;
-  if (++line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+// A row of a table is a few fields; a file without line breaks is no table, and reading it as one
+// line took 3.6 times its size before any check.
+constexpr std::streamsize kMaxLineBytes = std::streamsize{1} << 20;
+
+// The next line, without the byte-order mark a spreadsheet may put before the first one; throws
+// on a line past kMaxLineBytes.
+bool next_line(std::ifstream& in, std::string& line, int& line_number, const std::filesystem::path& path) {
+  thread_local std::vector<char> buffer(static_cast<std::size_t>(kMaxLineBytes) + 1);
+  in.getline(buffer.data(), kMaxLineBytes + 1);
+  const std::streamsize read = in.gcount();
+  if (in.eof() && read == 0) return false;
+  ++line_number;
+  if (in.fail() && !in.eof()) {
+    throw DatasetError(fmt::format("{}:{}: a line longer than {} MiB, expected the rows of a text table (one sample, "
+                                   "or one recording, a line)", path.string(), line_number, kMaxLineBytes >> 20));
+  }
+  const bool ended_by_newline = !in.eof();
+  line.assign(buffer.data(), static_cast<std::size_t>(ended_by_newline ? read - 1 : read));
+  if (line_number == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
   return true;
 }
 
@@ -83,7 +99,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
   table.path = path;
   std::string line;
   int line_number = 0;
-  while (next_line(in, line, line_number)) {
+  while (next_line(in, line, line_number, path)) {
     if (blank(line)) continue;
     auto fields = csv_fields(line);
     if (table.header.empty()) {
@@ -120,7 +136,7 @@ SignalData read_single_column(const std::filesystem::path& path) {
   std::string line;
   int line_number = 0;
   BlankLines blanks(path);
-  while (next_line(in, line, line_number)) {
+  while (next_line(in, line, line_number, path)) {
     if (blanks.skip(line, line_number, !signal.values.empty())) continue;
     const std::string field = trimmed(line);
     if (field.find_first_of(",; \t") != std::string::npos) {
@@ -144,7 +160,7 @@ SignalData read_signal_csv(const std::filesystem::path& path, const std::vector<
   std::string line;
   int line_number = 0;
   BlankLines blanks(path);
-  while (next_line(in, line, line_number)) {
+  while (next_line(in, line, line_number, path)) {
     if (blanks.skip(line, line_number, !header_only.header.empty())) continue;
     const auto fields = csv_fields(line);
     if (header_only.header.empty()) {

@@ -67,8 +67,10 @@ const std::string kRun = "--methods prototype --dataset simtex-mini --profile sm
 
 const std::string kFolderRun = "--methods prototype --dataset folder --data-root {root}/data --profile smoke "
                                "--threads 1 --quiet --no-cache --out {root}/out ";
-const std::string kLabJson = R"(data/dataset.json={"name": "lab", "sample_rate": 100, "channels": ["a"], )"
-                             R"("segment_seconds": 0.02)";
+// Segments of 3 samples and a front end that fits them (a centred window of 4, one Mel filter).
+const std::string kLabHead = R"(data/dataset.json={"name": "lab", "sample_rate": 100, "channels": ["a"], )"
+                             R"("segment_seconds": 0.03)";
+const std::string kLabJson = kLabHead + R"(, "front_end": {"n_fft": 4, "n_mels": 1, "center": true})";
 const std::vector<std::string> kTwoClasses = {"data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
                                               "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n"};
 
@@ -130,12 +132,41 @@ const HostileCase kCases[] = {
     {"dataset_json_unknown_field", kFolderRun, 1, "unknown field 'sampel_rate', expected one of name, sample_rate",
      with(kTwoClasses, kLabJson + R"(, "sampel_rate": 1000})")},
     {"dataset_json_unknown_front_end_field", kFolderRun, 1, "unknown field 'front_end.nfft'",
-     with(kTwoClasses, kLabJson + R"(, "front_end": {"nfft": 64}})")},
+     with(kTwoClasses, kLabHead + R"(, "front_end": {"nfft": 64}})")},
+    // dataset.json's values checked against each other before any recording is read, the file named.
+    {"dataset_json_sample_rate_past_any_sensor", kFolderRun, 1,
+     "dataset.json: field 'sample_rate': expected a number in (0, 10000000]",
+     with(kTwoClasses, R"(data/dataset.json={"name": "lab", "sample_rate": 1e300, "channels": ["a"], "segment_seconds": 1})")},
+    {"dataset_json_segment_of_a_billion_samples", kFolderRun, 1,
+     "field 'segment_seconds': expected at least one and at most 100000000 samples at sample_rate 10000000",
+     with(kTwoClasses, R"(data/dataset.json={"name": "lab", "sample_rate": 1e7, "channels": ["a"], "segment_seconds": 100})")},
+    {"dataset_json_unknown_preset", kFolderRun, 1,
+     "dataset.json: field 'front_end.preset': expected one of haptex, lmt108, ls100, ns100",
+     with(kTwoClasses, kLabHead + R"(, "front_end": {"preset": "bogus"}})")},
+    {"dataset_json_window_longer_than_a_segment", kFolderRun, 1,
+     "dataset.json: field 'front_end.n_fft': expected a window no longer than the segment's 3 samples",
+     with(kTwoClasses, kLabHead + "}")},
+    {"dataset_json_band_upside_down", kFolderRun, 1,
+     "dataset.json: field 'front_end.f_min': expected a frequency below the band's top, 40 Hz",
+     with(kTwoClasses, kLabHead + R"(, "front_end": {"n_fft": 3, "f_min": 60, "f_max": 40}})")},
     {"dataset_json_field_twice", kFolderRun, 1, "field 'sample_rate' given twice in one object",
      with(kTwoClasses, kLabJson + R"(, "sample_rate": 1000})")},
     {"dataset_json_a_folder", kFolderRun, 1, "dataset.json: a folder, not a file", with(kTwoClasses, "data/dataset.json/")},
     {"sessions_leaving_classes_out", kFolderRun, 1, "base_classes 1 + way 1 x (sessions 1 - 1) takes 1",
      with(kTwoClasses, kLabJson + R"(, "sessions": {"sessions": 1}})")},
+    {"resume_a_folder_no_command_wrote", "--methods prototype --dataset simtex-mini --profile smoke --quiet "
+     "--resume {root}/empty", 2, "no fscil-bench command wrote there (no .lock, no result files), nothing to resume",
+     {"empty/"}},
+    // A folder where fscil-bench keeps a file is named as what it is, not as a damaged file.
+    {"cache_file_a_folder", kRun, 1,
+     "simtex-mini-9ab4d58d62532ddd.h5: a folder, not a file, where the segment cache keeps its file",
+     {"cache/simtex-mini-9ab4d58d62532ddd.h5/"}},
+    {"checkpoint_a_folder", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
+     "--resume {root}/run", 1, "prototype__simtex-mini__seed1.ckpt: a folder, not a file, expected a checkpoint file",
+     {"run/.lock", "run/checkpoints/prototype__simtex-mini__seed1.ckpt/"}},
+    {"set_value_with_a_plus_sign", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
+     "--out {root}/out --set shot=+5", 1,
+     "parameter shot='+5': expected the number without '+' (the value's text names the run, and '5' would be another)"},
     {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},
     {"config_key_twice", kRun + "--config {root}/run.json", 2, "key 'shot' given twice",
      {R"(run.json={"set": {"shot": 5, "shot": 3}})"}},
@@ -152,6 +183,13 @@ const HostileCase kCases[] = {
     {"grid_of_300000_values_in_a_config",
      "plan --methods prototype --dataset simtex-mini --profile smoke --out {root}/out --config {root}/grid.json", 2,
      "--grid shot: 300000 values are more than the 10000 cells a sweep takes", {grid_config(300000)}},
+    // Result files name what this program runs: a table never carries a method nothing here can run.
+    {"report_of_a_method_nothing_runs", "report --results {root}/runs --out {root}/tables", 1,
+     "unknown.json: field 'method': expected a method this program runs (fscil-bench list), found 'bogus-method'",
+     {"runs/.lock", "runs/results/unknown.json=@tests/fuzz/corpus/run_record/unknown_method.json"}},
+    {"analyze_of_a_method_nothing_runs", "analyze --results {root}/runs --out {root}/tables", 1,
+     "found 'bogus-method'; an out-of-tree method's results are tabulated by its own program",
+     {"runs/.lock", "runs/results/unknown.json=@tests/fuzz/corpus/run_record/unknown_method.json", "tables/"}},
     // The one writer replaces regular files only, and never a file the command reads.
     {"reference_out_onto_the_result_it_reads",
      "reference --results {root}/runs --out {root}/runs/results/orco.json", 1, "orco.json: is an input, which this command reads",

@@ -16,10 +16,12 @@
 #include "core/error.h"
 #include "core/shown_text.h"
 #include "core/stop_request.h"
+#include "core/text_file.h"
 #include "datasets/hdf5_file.h"
 #include "methods/method_registry.h"
 #include "metrics/resource_usage.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
+#include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/command_table.h"
 #include "tools/fscil-bench/options/config_file.h"
 #include "tools/fscil-bench/options/machine_info.h"
@@ -116,6 +118,15 @@ void apply_resume(const Invocation& invocation) {
     throw CliError("--resume: expected the folder of the interrupted command (its --out)");
   }
   if (invocation.resume_dir.empty()) return;
+  if (const std::string why = why_not_a_folder(invocation.resume_dir); !why.empty()) {
+    throw CliError(fmt::format("--resume {}: {}, nothing to resume (give the --out of the interrupted command)",
+                               invocation.resume_dir, why));
+  }
+  // An interrupted command leaves its .lock behind: a folder without one was never an --out.
+  if (!written_by_fscil_bench(invocation.resume_dir)) {
+    throw CliError(fmt::format("--resume {}: no fscil-bench command wrote there (no .lock, no result files), nothing "
+                               "to resume; without --resume a run starts there", invocation.resume_dir));
+  }
   RunOptions& run = invocation.run;
   if (invocation.given("--out") && run.out != invocation.resume_dir) {
     throw CliError(fmt::format("--resume {} and --out {}: a resumed run writes where it started", invocation.resume_dir,

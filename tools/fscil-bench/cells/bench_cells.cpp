@@ -14,6 +14,7 @@
 #include "protocols/profiles.h"
 #include "reports/run_record.h"
 #include "core/error.h"
+#include "core/shown_text.h"
 #include "tools/fscil-bench/options/run_option_table.h"
 #include "tools/fscil-bench/options/dataset_defaults.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
@@ -164,10 +165,32 @@ std::string run_cell(const RunOptions& options, const std::vector<std::string>& 
   return run_benchmark(run);
 }
 
+namespace {
+
+void require_known_names(const std::vector<RunRecord>& records) {
+  for (const auto& record : records) {
+    require_profile(record.profile, record.source);
+    const auto& registry = method_registry();
+    if (std::none_of(registry.begin(), registry.end(), [&](const MethodEntry& entry) { return entry.name == record.method; })) {
+      throw ReportError(fmt::format("{}: field 'method': expected a method this program runs (fscil-bench list), found "
+                                    "'{}'; an out-of-tree method's results are tabulated by its own program",
+                                    record.source, shown_text(record.method)));
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<RunRecord> load_known_run_records(const std::string& results) {
+  std::vector<RunRecord> records = load_run_records(results);
+  require_known_names(records);
+  return records;
+}
+
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid) {
   std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
-  for (const auto& record : records) require_profile(record.profile, record.source);
+  require_known_names(records);
   if (methods.empty()) return records;
   const std::vector<std::string> order = resolve_method_names(methods);
   std::vector<std::string> cells;  // as load_sweep_records ordered them

@@ -54,6 +54,11 @@ std::string clock_time(double seconds);
 // the command has no cell K.
 std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index);
 
+// The result files below `results` (load_run_records), each refused unless of a profile and a
+// method this program knows: a table must not carry a name nothing here can run. An out-of-tree
+// method's results are tabulated by its own program, which registers it.
+std::vector<RunRecord> load_known_run_records(const std::string& results);
+
 // The result files below `results` ordered as the command runs them: grid cells as `grid` gives
 // them, then methods as `methods` names them (empty: by file name), then seeds in number order;
 // so tables merged from cells read as the command's own.

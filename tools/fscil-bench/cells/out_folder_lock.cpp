@@ -41,6 +41,17 @@ Locked lock_file(const std::filesystem::path& file, int operation, int& descript
 
 }  // namespace
 
+bool written_by_fscil_bench(const std::filesystem::path& folder) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  if (fs::exists(folder / ".lock", error)) return true;
+  // Result files mark a folder fscil-bench wrote before it had a .lock, or that was copied without it.
+  for (fs::directory_iterator entry(folder / "results", error), end; !error && entry != end; entry.increment(error)) {
+    if (entry->path().extension() == ".json") return true;
+  }
+  return false;
+}
+
 void refuse_files_not_ours(const std::filesystem::path& folder) {
   namespace fs = std::filesystem;
   std::error_code error;
@@ -52,13 +63,7 @@ void refuse_files_not_ours(const std::filesystem::path& folder) {
                                       "or choose another --out", folder.string(), sub.string(), name));
     }
   }
-  if (fs::exists(folder / ".lock", error)) return;
-  // Result files mark a folder fscil-bench wrote before it had a .lock, or that was copied without it.
-  if (fs::is_directory(folder / "results", error)) {
-    for (const auto& entry : fs::directory_iterator(folder / "results", error)) {
-      if (entry.path().extension() == ".json") return;
-    }
-  }
+  if (written_by_fscil_bench(folder)) return;
   std::vector<fs::path> would_replace;
   for (const char* name : kTableNames) {
     if (fs::exists(folder / name, error)) would_replace.push_back(folder / name);

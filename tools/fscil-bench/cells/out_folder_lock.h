@@ -18,6 +18,10 @@ namespace fscil {
 // and again when locking.
 void refuse_files_not_ours(const std::filesystem::path& folder);
 
+// Whether a fscil-bench command has written `folder` (it holds a `.lock`, or result files from
+// before locks): what --resume may continue.
+bool written_by_fscil_bench(const std::filesystem::path& folder);
+
 // Throws ProtocolError when a command is still writing `folder` (its .lock or a cell's .lock-RUN is
 // held): its tables would count the runs finished so far as the whole command. Takes no lock and
 // creates no file.
