@@ -43,9 +43,10 @@ struct SupervisedSchedule {
   double expected_epochs() const;
 };
 
-// Where base_stop=converged stages stopped under the fast profile: the mean over every method's
-// stopped stages on simtex and sf-instruments, since plan sums times (docs/profiling.md). An
-// estimate, not a schedule.
+// Where base_stop=converged stages stopped under the fast profile, for plan's sum of times: the
+// mean of the first 15 stops measured on simtex and sf-instruments (12.5); the 21 stops measured
+// since have a mean of 13.0 and a median of 12 (docs/methods.md, "The fast profile"). An estimate,
+// not a schedule.
 inline constexpr int kTypicalConvergedEpoch = 12;
 
 // Work of the stages most methods share (MethodEntry::work): expected_epochs() passes over the base
