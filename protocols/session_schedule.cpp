@@ -79,6 +79,11 @@ void split_around_held_out_contexts(std::vector<int> open, std::vector<int> held
   test.assign(held_out.begin(), held_out.begin() + n_test);
   const std::vector<int> rest(held_out.begin() + n_test, held_out.end());
   if (base_class) {
+    if (open.size() < 2) {  // say why: the recordings are there, marked held out
+      throw ProtocolError(fmt::format("class {}: {} recordings outside held-out contexts and {} marked held_out=1 (the "
+                                      "manifest's context), at least 2 unmarked needed to train and validate a base "
+                                      "class", class_name, open.size(), held_out.size()));
+    }
     split_train_validation(open, class_name, train, validation);
     scored_validation = rest;
     return;

@@ -57,6 +57,14 @@ std::vector<std::pair<std::string, double>> metrics_of(const RunRecord& record) 
   return metrics;
 }
 
+// What metrics_of() names: acc_0, acc_1, ... (no sign, no leading zero), AA, PD, ADR.
+bool is_metric_name(const std::string& metric) {
+  if (metric == "AA" || metric == "PD" || metric == "ADR") return true;
+  const std::string digits = metric.rfind("acc_", 0) == 0 ? metric.substr(4) : std::string();
+  return !digits.empty() && digits.size() <= 4 && digits.find_first_not_of("0123456789") == std::string::npos &&
+         (digits == "0" || digits[0] != '0');
+}
+
 }  // namespace
 
 std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance) {
@@ -95,10 +103,11 @@ std::string render_reference_csv(const std::vector<ReferenceValue>& values, cons
 }
 
 std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path) {
-  if (!std::filesystem::is_regular_file(path)) {
-    throw ReportError(fmt::format("{}: cannot read the reference file", path.string()));
+  if (const std::string why = why_not_a_regular_file(path); !why.empty()) {
+    throw ReportError(fmt::format("{}: {}, expected a reference CSV", path.string(), why));
   }
   std::vector<ReferenceValue> values;
+  std::map<std::string, int> line_of_value;  // a value given twice would pass on one line and fail on the other
   bool header_seen = false;
   bool with_kernels = true;
   int line_number = 0;
@@ -129,6 +138,16 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
     value.expected = finite_number(fields[7], where + " expected");
     value.tolerance = finite_number(fields[8], where + " tolerance");
     if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));
+    if (!is_metric_name(value.metric)) {
+      throw ReportError(fmt::format("{}: metric '{}', expected acc_0, acc_1, ... (a session's accuracy), AA, PD or ADR",
+                                    where, shown_text(value.metric)));
+    }
+    const std::string key = fmt::format("{} on {} seed {} ({} threads, {}) {}", value.method, value.dataset, value.seed,
+                                        value.threads, value.kernels.empty() ? "any kernels" : value.kernels, value.metric);
+    if (const auto [earlier, fresh] = line_of_value.emplace(key, line_number); !fresh) {
+      throw ReportError(fmt::format("{}: {} given again (line {} gives it), expected one value of each", where,
+                                    shown_text(key), earlier->second));
+    }
     values.push_back(std::move(value));
   }
   if (values.empty()) throw ReportError(fmt::format("{}: no reference values", path.string()));

@@ -240,7 +240,12 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   }
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(directory)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".json") files.push_back(entry.path());
+    if (entry.path().extension() != ".json") continue;
+    // A folder or a FIFO named like a result is named as what it is, not passed over.
+    if (const std::string why = why_not_a_regular_file(entry.path()); !why.empty()) {
+      throw ReportError(fmt::format("{}: {}, expected a result file", entry.path().string(), why));
+    }
+    files.push_back(entry.path());
   }
   std::sort(files.begin(), files.end());
   std::vector<RunRecord> records;

@@ -91,6 +91,10 @@ LogMelSettings front_end_of(const DatasetFields& spec, double sample_rate, std::
   settings.f_min = spec.number("f_min", ValidRange::at_least(0), settings.f_min);
   settings.f_max = spec.number("f_max", ValidRange::at_least(0), settings.f_max);
   settings.center = spec.flag("center", settings.center);
+  if (settings.f_max > sample_rate / 2) {  // filters past Nyquist are empty: features of nothing
+    spec.fail("f_max", fmt::format("at most half the sample rate, {} Hz (0 for all of it), found {}", sample_rate / 2,
+                                   settings.f_max));
+  }
   const double band_top = settings.f_max > 0 ? settings.f_max : sample_rate / 2;
   if (settings.f_min >= band_top) {
     spec.fail("f_min", fmt::format("a frequency below the band's top, {} Hz (f_max, or half the sample "

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <vector>
@@ -76,6 +77,17 @@ class BlankLines {
   int first_blank_ = 0;
 };
 
+// A column named twice leaves which one is read to the reader's whim: refused.
+void require_distinct_columns(const std::vector<std::string>& header, const std::filesystem::path& path, int line) {
+  for (std::size_t c = 1; c < header.size(); ++c) {
+    if (std::find(header.begin(), header.begin() + static_cast<std::ptrdiff_t>(c), header[c]) !=
+        header.begin() + static_cast<std::ptrdiff_t>(c)) {
+      throw DatasetError(fmt::format("{}:{}: column '{}' appears twice in the header, expected distinct names",
+                                     path.string(), line, shown_text(header[c])));
+    }
+  }
+}
+
 }  // namespace
 
 std::size_t TextTable::column(const std::string& name) const {
@@ -103,6 +115,7 @@ TextTable read_text_table(const std::filesystem::path& path) {
     if (blank(line)) continue;
     auto fields = csv_fields(line);
     if (table.header.empty()) {
+      require_distinct_columns(fields, path, line_number);
       table.header = std::move(fields);
       continue;
     }
@@ -164,6 +177,7 @@ SignalData read_signal_csv(const std::filesystem::path& path, const std::vector<
     if (blanks.skip(line, line_number, !header_only.header.empty())) continue;
     const auto fields = csv_fields(line);
     if (header_only.header.empty()) {
+      require_distinct_columns(fields, path, line_number);
       header_only.header = fields;
       for (const auto& name : channels) columns.push_back(header_only.column(name));
       continue;

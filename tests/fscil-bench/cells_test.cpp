@@ -138,6 +138,9 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   expect_one_error_line(run_cli(command + " --submit", "PATH=/nonexistent"), "sbatch --parsable");
   expect_one_error_line(run_cli(command + " --sbatch-arg=account=abc"), "expected one sbatch option on one line");
   expect_one_error_line(run_cli(command + " '--sbatch-arg=--account=a b'"), "expected one sbatch option on one line");
+  // A newline is shown, not printed: the line would end before it says what is wrong.
+  expect_one_error_line(run_cli(command + " \"$(printf -- '--sbatch-arg=--account=a\\nrm -rf /')\""),
+                        "--sbatch-arg '--account=a\\nrm -rf /': expected one sbatch option on one line");
   // The array, threads and logs are the command's: neither an option nor its prefix may set them over.
   for (const char* computed : {"--array=0-99", "--arr=1", "--cpus-per-task=64", "--output=/tmp/x"}) {
     const CommandResult overridden = run_cli(command + " --sbatch-arg=" + computed);

@@ -134,6 +134,12 @@ const HostileCase kCases[] = {
     {"dataset_json_unknown_front_end_field", kFolderRun, 1, "unknown field 'front_end.nfft'",
      with(kTwoClasses, kLabHead + R"(, "front_end": {"nfft": 64}})")},
     // dataset.json's values checked against each other before any recording is read, the file named.
+    {"dataset_json_band_past_nyquist", kFolderRun, 1,
+     "dataset.json: field 'front_end.f_max': expected at most half the sample rate, 50 Hz (0 for all of it), found 500",
+     with(kTwoClasses, kLabHead + R"(, "front_end": {"n_fft": 4, "center": true, "f_max": 500}})")},
+    {"manifest_with_a_column_twice", kFolderRun, 1, "manifest.csv:1: column 'class' appears twice in the header",
+     {kLabJson + "}", "data/manifest.csv=file,class,group,recording,class\nr0.csv,a,g,r0,z\nr1.csv,b,g,r1,z\n",
+      "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n"}},
     {"dataset_json_sample_rate_past_any_sensor", kFolderRun, 1,
      "dataset.json: field 'sample_rate': expected a number in (0, 10000000]",
      with(kTwoClasses, R"(data/dataset.json={"name": "lab", "sample_rate": 1e300, "channels": ["a"], "segment_seconds": 1})")},
@@ -190,6 +196,26 @@ const HostileCase kCases[] = {
     {"analyze_of_a_method_nothing_runs", "analyze --results {root}/runs --out {root}/tables", 1,
      "found 'bogus-method'; an out-of-tree method's results are tabulated by its own program",
      {"runs/.lock", "runs/results/unknown.json=@tests/fuzz/corpus/run_record/unknown_method.json", "tables/"}},
+    {"result_file_a_folder", "report --results {root}/runs --out {root}/tables", 1,
+     "runs/results/x.json: a folder, not a file, expected a result file",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "runs/results/x.json/"}},
+    {"paper_tables_without_paper", "report --results {root}/runs --out {root}/tables --paper-tables {root}/runs/.lock", 2,
+     "--paper-tables: read only with --paper", {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+    // Every cell checked before the first one trains or is listed.
+    {"sweep_with_a_bad_value_in_its_last_cell", "sweep --methods prototype --dataset simtex-mini --profile smoke --quiet "
+     "--no-cache --threads 1 --grid shot=1,nan --out {root}/sweep", 1, "parameter shot='nan': expected an integer"},
+    {"plan_listing_an_unknown_dataset", "plan --no-estimate --methods prototype --dataset nonsense", 1,
+     "unknown dataset 'nonsense'"},
+    // A reference file's typo is the file's fault, not the results' drift.
+    {"reference_with_an_unknown_metric", "check --results {root}/runs --reference {root}/ref.csv", 1,
+     "ref.csv:2: metric 'bogus', expected acc_0, acc_1, ... (a session's accuracy), AA, PD or ADR",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json",
+      "ref.csv=method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\norco,simtex-mini,smoke,1,1,k,bogus,60,2\n"}},
+    {"reference_with_a_value_twice", "check --results {root}/runs --reference {root}/ref.csv", 1,
+     "ref.csv:3: orco on simtex-mini seed 1 (1 threads, k) acc_0 given again (line 2 gives it)",
+     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json",
+      "ref.csv=method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\n"
+      "orco,simtex-mini,smoke,1,1,k,acc_0,60,2\norco,simtex-mini,smoke,1,1,k,acc_0,10,2\n"}},
     // The one writer replaces regular files only, and never a file the command reads.
     {"reference_out_onto_the_result_it_reads",
      "reference --results {root}/runs --out {root}/runs/results/orco.json", 1, "orco.json: is an input, which this command reads",
@@ -291,6 +317,19 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   expect_one_error_line(result, c.fragment);
   EXPECT_EQ(result.exit_code, c.exit_code) << result.output;
   EXPECT_EQ(tree_of(root.path()), before) << "files changed by: " << c.arguments;
+}
+
+// System errors carry the path and the system's reason, not the library's "filesystem error: status:"
+// (apart from the table: its tree walk cannot pass a loop of links either).
+TEST(HostileInput, ALoopOfLinksIsNamedWithTheSystemsReason) {
+  TemporaryDirectory root;
+  fs::create_symlink(root.path() / "loop2", root.path() / "loop1");
+  fs::create_symlink(root.path() / "loop1", root.path() / "loop2");
+  const CommandResult result = run_cli("--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --out " +
+                                       (root.path() / "loop1").string());
+  expect_one_error_line(result, "loop1/cells: Too many levels of symbolic links");
+  EXPECT_EQ(result.output.find("filesystem error"), std::string::npos) << result.output;
+  EXPECT_EQ(result.exit_code, 1);
 }
 
 // report, analyze, check and reference wait for no one: while a command still writes the folder,

@@ -151,7 +151,8 @@ TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
   std::ofstream(path) << "method,value\n";
   EXPECT_NE(message_of([&] { load_reference_csv(path); }).find("reference.csv:1: header 'method,value'"),
             std::string::npos);
-  EXPECT_NE(message_of([&] { load_reference_csv(directory.path() / "absent.csv"); }).find("cannot read"),
+  EXPECT_NE(message_of([&] { load_reference_csv(directory.path() / "absent.csv"); })
+                .find("absent.csv: no such file, expected a reference CSV"),
             std::string::npos);
   // Saved by a spreadsheet (byte-order mark, CRLF) it reads as written; a header that differs by
   // an invisible byte shows the byte.

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <regex>
@@ -204,6 +205,10 @@ int run_subcommand(int argc, char** argv) {
   } catch (const Error& error) {
     print_error(error.what());
     return error.status();
+  } catch (const std::filesystem::filesystem_error& error) {  // the path and the system's reason, not the library's text
+    print_error(fmt::format("{}: {}", error.path1().empty() ? std::string("a path") : error.path1().string(),
+                            error.code().message()));
+    return exit_status::bad_input;
   } catch (const std::exception& error) {  // a library's own error
     print_error(error.what());
     return exit_status::bad_input;

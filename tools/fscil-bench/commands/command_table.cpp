@@ -15,6 +15,7 @@
 #include "methods/method_registry.h"
 #include "protocols/profiles.h"
 #include "reports/context_analysis.h"
+#include "reports/paper_tables.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/cells/cell_runner.h"
@@ -107,12 +108,15 @@ class PlanCommand : public CellsCommand {
     command.add_flag("--missing-only", missing_only_,
                      "only the cells without their result files; exit 1 when there are any (the Slurm merge job's check)");
     command.add_flag("--no-estimate", no_estimate_,
-                     "list the cells without estimating their time (which prepares the dataset and, once per machine "
-                     "and input shape, times the training step)");
+                     "list the cells without estimating their time (which, once per machine and input shape, times "
+                     "the training step); every cell is still checked, which prepares the dataset");
   }
   int run(Invocation& invocation) override {
     auto cells = plan_cells(invocation.run, grid_);
-    if (!missing_only_ && !no_estimate_) {
+    // A listing of cells that cannot run is no plan: each is checked (the estimate checks as it sizes).
+    if (missing_only_ || no_estimate_) {
+      check_every_cell(invocation.run, grid_);
+    } else {
       try {
         estimate_cells(invocation.run, grid_, cells);
       } catch (const DataNotHere& error) {  // a real dataset on a machine without its data: the cells still list
@@ -267,9 +271,14 @@ class ReportCommand : public Subcommand {
     command.add_option("--paper-tables", paper_tables_, "the paper's tables (default: reports/reference/paper_tables.csv)");
   }
   int run(Invocation&) override {
+    if (!paper_ && !paper_tables_.empty()) {
+      throw CliError("--paper-tables: read only with --paper (the comparison it feeds); add --paper or drop it");
+    }
     refuse_folder_being_written(results_);
     const auto records = load_command_records(results_, methods_, grid_);
     require_results_of_the_command(records, results_, methods_, grid_);
+    const std::filesystem::path tables = paper_tables_.empty() ? default_paper_tables() : std::filesystem::path(paper_tables_);
+    if (paper_) load_paper_tables(tables);  // a bad file is refused before any table is written
     const std::filesystem::path directory = out_.empty() ? results_ : out_;
     std::optional<OutFolderLock> claimed;  // another folder's files may be the user's
     if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
@@ -277,7 +286,6 @@ class ReportCommand : public Subcommand {
     }
     fmt::print("{}", write_reports(directory, records));
     if (paper_) {
-      const std::filesystem::path tables = paper_tables_.empty() ? default_paper_tables() : std::filesystem::path(paper_tables_);
       fmt::print("\n## Beside the paper\n\n{}", write_paper_comparison(directory, records, tables));
     }
     return exit_status::success;

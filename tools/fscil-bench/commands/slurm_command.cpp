@@ -41,8 +41,8 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
   refuse_unless(slurm.mem, R"(\d+[KMGTkmgt]?)", "--mem", "a Slurm memory size: a whole number with K, M, G or T, e.g. 8G");
   for (const auto& argument : slurm.sbatch_arguments) {
     if (argument.rfind("--", 0) != 0 || argument.find_first_of(" \t\n\r\v\f") != std::string::npos) {
-      throw CliError(fmt::format("--sbatch-arg {}: expected one sbatch option on one line, without blanks, e.g. "
-                                 "--sbatch-arg=--account=abc", shell_command({argument})));
+      throw CliError(fmt::format("--sbatch-arg '{}': expected one sbatch option on one line, without blanks, e.g. "
+                                 "--sbatch-arg=--account=abc", shown_text(argument)));
     }
     // sbatch takes any unambiguous prefix of a long option (--arr for --array), so a prefix is refused too.
     const std::string name = argument.substr(2, argument.find('=') - 2);

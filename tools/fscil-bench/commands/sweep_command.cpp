@@ -60,11 +60,12 @@ std::vector<RunRecord> load_sweep_records(const std::string& out, const std::vec
 std::string run_sweep(const RunOptions& options, const std::vector<std::string>& grid) {
   const auto cells = grid_cells(parse_grid(grid));
   std::vector<RunOptions> runs;
-  for (const auto& cell : cells) runs.push_back(sweep_cell_options(options, cell));  // every cell is checked first
+  for (const auto& cell : cells) runs.push_back(sweep_cell_options(options, cell));
   if (options.resume && !fs::is_directory(options.out)) {
     throw CliError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the interrupted "
                                "sweep)", options.out));
   }
+  check_every_cell(options, grid);  // a bad value in the last cell is refused before the first one trains
   const OutFolderLock lock(options.out);
   for (std::size_t c = 0; c < runs.size(); ++c) {
     if (!options.quiet) fmt::print(stderr, "== cell {} of {}: {}\n", c + 1, runs.size(), grid_cell_name(runs[c].grid));
