@@ -239,15 +239,17 @@ DatasetScan scan_folder(const fs::path& root, const FolderExpectation* expected)
                   fmt::format("{}", fmt::join(expected->channels, ",")), expected->name);
     require_value(config_path, "segment_seconds", segment_seconds, expected->segment_seconds, expected->name);
   }
-  for (const auto& [field, seconds] : {std::pair{"segment_seconds", segment_seconds}, {"hop_seconds", hop_seconds}}) {
+  // Seconds as whole samples, bounded before the conversion (past int64 it would be undefined).
+  const auto samples_of = [&](const char* field, double seconds) {
     const double samples = std::round(seconds * d.sample_rate);
     if (samples < 1 || samples > kMaxSegmentSamples) {
       top.fail(field, fmt::format("at least one and at most {:.0f} samples at sample_rate {} (it gives {:g})",
                                   kMaxSegmentSamples, d.sample_rate, samples));
     }
-  }
-  const auto segment = static_cast<std::int64_t>(std::lround(segment_seconds * d.sample_rate));
-  const auto hop = static_cast<std::int64_t>(std::lround(hop_seconds * d.sample_rate));
+    return static_cast<std::int64_t>(samples);
+  };
+  const std::int64_t segment = samples_of("segment_seconds", segment_seconds);
+  const std::int64_t hop = samples_of("hop_seconds", hop_seconds);
   d.segment = {segment, hop, top.integer("max_segments_per_recording", ValidRange::at_least(0), 0)};
   d.front_end = front_end_of(top.section("front_end"), d.sample_rate, segment, expected ? expected->preset : "");
 

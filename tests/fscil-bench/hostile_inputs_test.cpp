@@ -74,6 +74,11 @@ const std::string kLabJson = kLabHead + R"(, "front_end": {"n_fft": 4, "n_mels":
 const std::vector<std::string> kTwoClasses = {"data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
                                               "data/r0.csv=a\n1\n2\n3\n", "data/r1.csv=a\n10\n20\n30\n"};
 
+// A run's folder as fscil-bench leaves it: its .lock and one result file.
+const std::vector<std::string> kOrcoRun = {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"};
+// A reference CSV's header, as "reference" writes it; the rows follow.
+const std::string kReferenceCsv = "ref.csv=method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\n";
+
 // " --grid key=0,1,...,values-1" for each key: a grid of values^keys cells.
 std::string grid_of(const std::string& keys, int values) {
   std::string grid;
@@ -109,7 +114,7 @@ const HostileCase kCases[] = {
      {"out/summary.csv"}},
     {"out_holding_the_users_page", kRun, 1, "out/index.html would be replaced", {"out/index.html", "out/results/"}},
     {"report_into_the_users_folder", "report --results {root}/runs --out {root}/out", 1,
-     "out/results.tex would be replaced", {"out/results.tex", "runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     "out/results.tex would be replaced", with(kOrcoRun, "out/results.tex")},
     {"plain_run_into_a_sweeps_folder", kRun, 1, "a sweep's folder (it has cells/)", {"out/.lock", "out/cells/"}},
     // Sizes bounded before work, and no script line from an option.
     {"sweep_of_billions_of_cells",
@@ -198,9 +203,9 @@ const HostileCase kCases[] = {
      {"runs/.lock", "runs/results/unknown.json=@tests/fuzz/corpus/run_record/unknown_method.json", "tables/"}},
     {"result_file_a_folder", "report --results {root}/runs --out {root}/tables", 1,
      "runs/results/x.json: a folder, not a file, expected a result file",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "runs/results/x.json/"}},
+     with(kOrcoRun, "runs/results/x.json/")},
     {"paper_tables_without_paper", "report --results {root}/runs --out {root}/tables --paper-tables {root}/runs/.lock", 2,
-     "--paper-tables: read only with --paper", {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     "--paper-tables: read only with --paper", kOrcoRun},
     // Every cell checked before the first one trains or is listed.
     {"sweep_with_a_bad_value_in_its_last_cell", "sweep --methods prototype --dataset simtex-mini --profile smoke --quiet "
      "--no-cache --threads 1 --grid shot=1,nan --out {root}/sweep", 1, "parameter shot='nan': expected an integer"},
@@ -209,29 +214,27 @@ const HostileCase kCases[] = {
     // A reference file's typo is the file's fault, not the results' drift.
     {"reference_with_an_unknown_metric", "check --results {root}/runs --reference {root}/ref.csv", 1,
      "ref.csv:2: metric 'bogus', expected acc_0, acc_1, ... (a session's accuracy), AA, PD or ADR",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json",
-      "ref.csv=method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\norco,simtex-mini,smoke,1,1,k,bogus,60,2\n"}},
+     with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,bogus,60,2\n")},
     {"reference_with_a_value_twice", "check --results {root}/runs --reference {root}/ref.csv", 1,
      "ref.csv:3: orco on simtex-mini seed 1 (1 threads, k) acc_0 given again (line 2 gives it)",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json",
-      "ref.csv=method,dataset,profile,seed,threads,kernels,metric,expected,tolerance\n"
-      "orco,simtex-mini,smoke,1,1,k,acc_0,60,2\norco,simtex-mini,smoke,1,1,k,acc_0,10,2\n"}},
+     with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,acc_0,60,2\n"
+                              "orco,simtex-mini,smoke,1,1,k,acc_0,10,2\n")},
     // The one writer replaces regular files only, and never a file the command reads.
     {"reference_out_onto_the_result_it_reads",
      "reference --results {root}/runs --out {root}/runs/results/orco.json", 1, "orco.json: is an input, which this command reads",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     kOrcoRun},
     {"reference_out_onto_a_link", "reference --results {root}/runs --out {root}/out/link.csv", 1,
      "link.csv: is a symbolic link; fscil-bench writes only regular files",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "out/link.csv->{root}/elsewhere.csv"}},
+     with(kOrcoRun, "out/link.csv->{root}/elsewhere.csv")},
     {"reference_out_onto_a_fifo", "reference --results {root}/runs --out {root}/out/pipe", 1,
      "pipe: is a FIFO; fscil-bench writes only regular files",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json", "out/pipe|"}},
+     with(kOrcoRun, "out/pipe|")},
     {"reference_out_onto_a_device", "reference --results {root}/runs --out /dev/full", 1,
      "/dev/full: is a character device; fscil-bench writes only regular files",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     kOrcoRun},
     {"rerun_into_the_original_folder", "rerun {root}/runs/results/orco.json --out {root}/runs", 2,
      "runs holds this result file, which the rerun would replace",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     kOrcoRun},
     // Every file fscil-bench writes below --out is claimed before work, not the tables alone.
     {"out_holding_the_users_checkpoint", kRun, 1, "checkpoints/prototype__simtex-mini__seed1.ckpt would be replaced",
      {"out/checkpoints/prototype__simtex-mini__seed1.ckpt"}},
@@ -265,9 +268,9 @@ const HostileCase kCases[] = {
     // report reads what the command it names wrote, and says so when the folder holds something else.
     {"report_of_a_method_the_folder_lacks", "report --results {root}/runs --methods orco,prototype --out {root}/tables", 2,
      "runs holds no result file of prototype",
-     {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     kOrcoRun},
     {"report_with_a_grid_the_folder_lacks", "report --results {root}/runs --grid shot=1,5 --out {root}/tables", 2,
-     "--grid: ", {"runs/.lock", "runs/results/orco.json=@tests/fuzz/corpus/run_record/orco_smoke.json"}},
+     "--grid: ", kOrcoRun},
     // Recordings read as strictly as dataset.json: no sample lost to a blank line, no range called "not a number".
     {"recording_with_a_blank_line_between_samples", kFolderRun, 1,
      "r0.csv:3: a blank line between samples (line 4 follows it)",

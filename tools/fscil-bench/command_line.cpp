@@ -113,7 +113,8 @@ void refuse_ignored_options(const Invocation& invocation) {
   }
 }
 
-// --resume DIR continues the command whose --out it was.
+// --resume DIR continues the command whose --out it was: the one check of DIR for every command
+// (cells and sweeps set RunOptions::resume themselves only on a folder they find).
 void apply_resume(const Invocation& invocation) {
   if (invocation.given("--resume") && invocation.resume_dir.empty()) {
     throw CliError("--resume: expected the folder of the interrupted command (its --out)");

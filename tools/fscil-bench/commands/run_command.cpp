@@ -202,10 +202,6 @@ void check_run_options(const RunOptions& options) {
   if (!is_selection_name(options.selection)) {
     throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
   }
-  if (options.resume && !fs::is_directory(options.out)) {
-    throw ProtocolError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the "
-                                    "interrupted command)", options.out));
-  }
   sessions_to_save(options.save_embeddings, 0);  // its form before any work, its numbers once sessions are drawn
 }
 

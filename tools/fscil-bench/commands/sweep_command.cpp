@@ -61,10 +61,6 @@ std::string run_sweep(const RunOptions& options, const std::vector<std::string>&
   const auto cells = grid_cells(parse_grid(grid));
   std::vector<RunOptions> runs;
   for (const auto& cell : cells) runs.push_back(sweep_cell_options(options, cell));
-  if (options.resume && !fs::is_directory(options.out)) {
-    throw CliError(fmt::format("--resume {}: no such folder, nothing to resume (give the --out of the interrupted "
-                               "sweep)", options.out));
-  }
   check_every_cell(options, grid);  // a bad value in the last cell is refused before the first one trains
   const OutFolderLock lock(options.out);
   for (std::size_t c = 0; c < runs.size(); ++c) {
