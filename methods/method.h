@@ -14,6 +14,7 @@
 
 #include "methods/diverged_training.h"
 #include "methods/sample_rows.h"
+#include "methods/common/precision.h"
 #include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
 #include "core/parameter_set.h"
@@ -89,6 +90,8 @@ struct RunContext {
   bool recompute_activations = false;
   // --max-memory: training passes that would pass it recompute as above (null: no limit).
   std::shared_ptr<MemoryBudget> memory_budget;
+  // --precision: what the shared encoder computes in (methods/common/precision.h).
+  Precision precision = Precision::fp32;
   const SessionData* validation = nullptr;
   EpochSelection selection = EpochSelection::last;
   // Under test_oracle only: the test samples of every class seen once the session being trained is

@@ -3,7 +3,11 @@
 #include <malloc.h>
 #include <sys/resource.h>
 
+#include <unistd.h>
+
+#include <ctime>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "core/number_text.h"
@@ -41,6 +45,20 @@ void return_large_blocks_to_the_kernel() {
   mallopt(M_MMAP_THRESHOLD, kLargeBlock);  // a fixed threshold: glibc no longer raises it
   mallopt(M_MMAP_MAX, 1 << 16);            // glibc's default count of mapped blocks
   mallopt(M_TRIM_THRESHOLD, kLargeBlock);
+}
+
+CpuTimes cpu_times_now() {
+  CpuTimes times;
+  times.process_seconds = static_cast<double>(std::clock()) / CLOCKS_PER_SEC;
+  // "cpu  user nice system idle iowait irq softirq steal ..." in clock ticks, over every core.
+  std::ifstream stat("/proc/stat");
+  std::string line;
+  if (!std::getline(stat, line) || line.rfind("cpu ", 0) != 0) return times;
+  std::istringstream fields(line.substr(4));
+  double user = 0, nice = 0, system = 0, idle = 0, iowait = 0, irq = 0, softirq = 0, steal = 0;
+  if (!(fields >> user >> nice >> system >> idle >> iowait >> irq >> softirq >> steal)) return times;
+  times.machine_seconds = (user + nice + system + irq + softirq + steal) / static_cast<double>(sysconf(_SC_CLK_TCK));
+  return times;
 }
 
 }  // namespace fscil

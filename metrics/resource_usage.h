@@ -24,5 +24,15 @@ void keep_freed_memory_for_reuse();
 // speed.
 void return_large_blocks_to_the_kernel();
 
+// CPU seconds spent so far by this process (all its threads) and by the whole machine (every
+// core's busy time, other processes' and the time a host took from the VM, "steal", included; from
+// /proc/stat, 0 where it cannot be read). Two readings tell how much of the cores other work held
+// between them.
+struct CpuTimes {
+  double process_seconds = 0;
+  double machine_seconds = 0;
+};
+CpuTimes cpu_times_now();
+
 
 }  // namespace fscil

@@ -36,6 +36,8 @@ std::string name_of(const RunRecord& record) { return record.source.empty() ? "t
 }  // namespace
 
 std::string incomparability(const RunRecord& a, const RunRecord& b) {
+  // Not even as rows of other datasets: a table's precision is one (summarize_runs).
+  if (precision_of(a) != precision_of(b)) return fmt::format("made in {} against {}", precision_of(a), precision_of(b));
   if (a.dataset != b.dataset || a.grid != b.grid) return "";
   if (a.dataset_key != b.dataset_key) return fmt::format("data {} against {}", a.dataset_key, b.dataset_key);
   if (a.profile != b.profile) return fmt::format("profile {} against {}", a.profile, b.profile);

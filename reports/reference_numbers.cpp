@@ -74,6 +74,10 @@ std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& re
       throw ReportError(fmt::format("{} on {} seed {}: scored on the {} split; reference numbers are test-split numbers",
                                     record.method, record.dataset, record.seed, record.evaluated_on));
     }
+    if (precision_of(record) != "fp32") {
+      throw ReportError(fmt::format("{} on {} seed {}: made in {}; reference numbers are fp32 runs' numbers",
+                                    record.method, record.dataset, record.seed, precision_of(record)));
+    }
     const std::string kernels = kernels_of(record);
     const bool one_field = std::none_of(kernels.begin(), kernels.end(), [](char c) { return c == ',' || c < ' '; });
     if (kernels.empty() || !one_field) {
@@ -177,6 +181,12 @@ ReferenceCheck check_against_reference(const std::vector<RunRecord>& records,
     if (run.evaluated_on != "test") {
       check.failures.push_back(fmt::format("{}: scored on the {} split; reference numbers are test-split numbers",
                                            run_name, run.evaluated_on));
+      unusable_runs.insert(run_name);
+      continue;
+    }
+    if (precision_of(run) != "fp32") {
+      check.failures.push_back(fmt::format("{}: made in {}; reference numbers are fp32 runs' numbers", run_name,
+                                           precision_of(run)));
       unusable_runs.insert(run_name);
       continue;
     }

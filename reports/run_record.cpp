@@ -40,6 +40,11 @@ std::vector<double> RunRecord::session_accuracies() const {
   return accuracies;
 }
 
+std::string precision_of(const RunRecord& record) {
+  const auto found = record.protocol_parameters.find("precision");
+  return found == record.protocol_parameters.end() ? "fp32" : found->second;
+}
+
 std::string run_record_file_name(const RunRecord& record) {
   return fmt::format("{}__{}__seed{}.json", safe_name(record.method), safe_name(record.dataset), record.seed);
 }

@@ -29,6 +29,10 @@ std::string with_cell(std::string label, const std::map<std::string, std::string
 }
 }  // namespace
 
+std::string SummaryTable::precision_note() const {
+  return precision == "fp32" ? std::string() : ", encoder in " + precision;
+}
+
 bool SummaryTable::several_seeds() const {
   return std::any_of(rows.begin(), rows.end(), [](const SummaryRow& row) { return row.seeds.size() > 1; });
 }
@@ -107,13 +111,22 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
     if (std::find(keys.begin(), keys.end(), key_of(record)) == keys.end()) keys.push_back(key_of(record));
   }
   SummaryTable table;
-  if (!records.empty()) table.evaluated_on = records.front().evaluated_on;
+  if (!records.empty()) {
+    table.evaluated_on = records.front().evaluated_on;
+    table.precision = precision_of(records.front());
+  }
   for (const auto& record : records) {
     if (record.evaluated_on != table.evaluated_on) {
       throw ReportError(fmt::format("{} on {} seed {} was scored on the {} split, {} on {} seed {} on the {} split: "
                                     "report them from separate directories", records.front().method,
                                     records.front().dataset, records.front().seed, table.evaluated_on, record.method,
                                     record.dataset, record.seed, record.evaluated_on));
+    }
+    if (precision_of(record) != table.precision) {
+      throw ReportError(fmt::format("{} on {} seed {} was made in {}, {} on {} seed {} in {}: report them from "
+                                    "separate directories", records.front().method, records.front().dataset,
+                                    records.front().seed, table.precision, record.method, record.dataset, record.seed,
+                                    precision_of(record)));
     }
   }
   for (const auto& key : keys) {

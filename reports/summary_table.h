@@ -39,6 +39,9 @@ struct SummaryRow {
 struct SummaryTable {
   std::vector<SummaryRow> rows;  // in order of first appearance
   std::string evaluated_on = "test";  // the split every run was scored on (RunRecord::evaluated_on)
+  std::string precision = "fp32";     // what every run's encoder computed in (precision_of)
+  // ", encoder in bf16" for a title or caption; "" for fp32, whose tables are named as they always were.
+  std::string precision_note() const;
   bool several_seeds() const;
   std::vector<std::string> datasets() const;
   // The sweep keys of any row but selection (a column of its own), in order of first appearance:
@@ -63,7 +66,7 @@ std::string unfinished_warning(const std::vector<RunRecord>& records);
 
 // Groups records by (method, dataset, sweep cell, selection). Throws ReportError when runs of one group disagree on
 // the number of sessions or repeat a seed, and when some runs were scored on the test split and
-// others on the validation split: one table never mixes the two.
+// others on the validation split, or made in other precisions: one table never mixes them.
 SummaryTable summarize_runs(const std::vector<RunRecord>& records);
 
 // Renderers of the same table: CSV for scripts, LaTeX in the paper's layout (best in bold),

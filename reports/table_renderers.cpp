@@ -96,7 +96,7 @@ std::string render_csv(const SummaryTable& table) {
   const auto grid_keys = table.grid_keys();
   std::string out = "method,dataset";
   for (const auto& key : grid_keys) out += "," + key;
-  out += ",split,selection,seeds,AA,PD,ADR";
+  out += ",split,selection,precision,seeds,AA,PD,ADR";
   for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}", s);
   if (with_std) {
     out += ",AA_std,PD_std,ADR_std";
@@ -108,7 +108,8 @@ std::string render_csv(const SummaryTable& table) {
   for (const auto* row : all) {
     out += fmt::format("{},{}", row->method, row->dataset);
     for (const auto& key : grid_keys) out += "," + grid_value(*row, key);
-    out += fmt::format(",{},{},{},{:.4f},{:.4f},{:.4f}", table.evaluated_on, row->selection, fmt::join(row->seeds, " "),
+    out += fmt::format(",{},{},{},{},{:.4f},{:.4f},{:.4f}", table.evaluated_on, row->selection, table.precision,
+                       fmt::join(row->seeds, " "),
                        row->average_accuracy.mean, row->performance_drop.mean, row->average_drop_rate.mean);
     for (std::size_t s = 0; s < sessions; ++s) {
       out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].mean) : ",";
@@ -138,7 +139,8 @@ std::string render_latex(const SummaryTable& table) {
     const auto columns = paper_columns(max_sessions(rows));
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
-    out += fmt::format("\\caption{{Comparison on {}, {} split{}.}}\n", latex_text(dataset), table.evaluated_on,
+    out += fmt::format("\\caption{{Comparison on {}, {} split{}{}.}}\n", latex_text(dataset), table.evaluated_on,
+                       table.precision_note(),
                        with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
     const auto grid_keys = table.grid_keys();
     out += fmt::format("\\begin{{tabular}}{{{}l{}ccc}}\n\\toprule\n", std::string(grid_keys.size(), 'l'),
@@ -179,7 +181,7 @@ std::string render_markdown(const SummaryTable& table) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
     const auto grid_keys = table.grid_keys();
-    out += fmt::format("### {}, {} split{}\n\n|", dataset, table.evaluated_on, with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
+    out += fmt::format("### {}, {} split{}{}\n\n|", dataset, table.evaluated_on, table.precision_note(), with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
     for (const auto& key : grid_keys) out += fmt::format(" {} |", key);
     out += " method |";
     for (const auto& column : columns) out += fmt::format(" {} |", column.title);

@@ -40,7 +40,7 @@ std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
   }
   std::string out = "method,dataset";
   for (const auto& key : grid_keys) out += "," + key;
-  out += ",split,selection,seed";
+  out += ",split,selection,precision,seed";
   for (const auto& field : session_fields()) {
     if (field.column) out += fmt::format(",{}", field.column);
   }
@@ -52,7 +52,7 @@ std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
         const auto found = record.grid.find(key);
         out += "," + (found == record.grid.end() ? std::string() : found->second);
       }
-      out += fmt::format(",{},{},{}", record.evaluated_on, record.selection, record.seed);
+      out += fmt::format(",{},{},{},{}", record.evaluated_on, record.selection, precision_of(record), record.seed);
       for (const auto& field : session_fields()) {
         if (field.column) out += "," + cell(field, session);
       }

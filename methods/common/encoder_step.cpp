@@ -14,12 +14,18 @@ std::vector<torch::Tensor> trained_parameters(ResNet18Encoder& encoder, CosineCl
   return parameters;
 }
 
+ResNet18Options encoder_step_options(std::int64_t channels, std::int64_t mel_bins, Precision precision) {
+  ResNet18Options options{channels, mel_bins};
+  options.precision = precision;
+  return options;
+}
+
 }  // namespace
 
 EncoderStep::EncoderStep(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
-                         std::int64_t classes)
+                         Precision precision, std::int64_t classes)
     : classes_(classes),
-      encoder_(ResNet18Options{channels, mel_bins}),
+      encoder_(encoder_step_options(channels, mel_bins, precision)),
       classifier_(classes, encoder_->embedding_size(), 16.0),
       optimizer_(make_schedule_sgd(trained_parameters(encoder_, classifier_), SupervisedSchedule{})),
       features_(torch::randn({batch, channels, mel_bins, frames})),

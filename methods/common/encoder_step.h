@@ -15,7 +15,7 @@ namespace fscil {
 class EncoderStep {
  public:
   EncoderStep(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
-              std::int64_t classes = 60);
+              Precision precision = Precision::fp32, std::int64_t classes = 60);
 
   void train();
   void infer();  // switches the encoder to eval mode; train() switches it back

@@ -1,5 +1,6 @@
 #include "methods/common/resnet18.h"
 
+#include <ATen/autocast_mode.h>
 #include <fmt/format.h>
 
 #include "methods/common/module_cost.h"
@@ -18,6 +19,31 @@ constexpr int kSegments = 1 + kStages;  // the stem with its pool, then the stag
 nn::Conv2d conv(std::int64_t in, std::int64_t out, std::int64_t kernel, std::int64_t stride, std::int64_t padding) {
   return nn::Conv2d(nn::Conv2dOptions(in, out, kernel).stride(stride).padding(padding).bias(false));
 }
+
+// LibTorch's CPU autocast to bfloat16 while it lives, when `on` and autocast is not on already
+// (--precision bf16). Autocast keeps bf16 copies of the weights while it is on, stale once an
+// optimiser steps, so the guard that turned it on drops them when it ends.
+class Bf16Autocast {
+ public:
+  explicit Bf16Autocast(bool on) : owner_(on && !at::autocast::is_cpu_enabled()) {
+    if (!owner_) return;
+    previous_type_ = at::autocast::get_autocast_cpu_dtype();
+    at::autocast::set_autocast_cpu_dtype(at::kBFloat16);
+    at::autocast::set_cpu_enabled(true);
+  }
+  ~Bf16Autocast() {
+    if (!owner_) return;
+    at::autocast::set_cpu_enabled(false);
+    at::autocast::set_autocast_cpu_dtype(previous_type_);
+    at::autocast::clear_cache();
+  }
+  Bf16Autocast(const Bf16Autocast&) = delete;
+  Bf16Autocast& operator=(const Bf16Autocast&) = delete;
+
+ private:
+  bool owner_;
+  at::ScalarType previous_type_ = at::kBFloat16;
+};
 
 // A batch norm at inference is y = x * scale + shift per channel, with these two vectors.
 std::pair<torch::Tensor, torch::Tensor> inference_affine(const nn::BatchNorm2d& norm) {
@@ -178,7 +204,8 @@ ResNet18EncoderImpl::ResNet18EncoderImpl(const ResNet18Options& options)
       embedding_size_(options.widths[3]),
       fold_norms_at_inference_(options.fold_norms_at_inference),
       recompute_activations_(options.recompute_activations),
-      memory_budget_(options.memory_budget) {
+      memory_budget_(options.memory_budget),
+      precision_(options.precision) {
   std::int64_t in_planes = options.widths[0];
   for (int stage = 0; stage < kStages; ++stage) {
     const std::int64_t stride = stage == 0 ? 1 : 2;
@@ -213,15 +240,14 @@ torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const Inp
     const auto [scale, shift] = inference_affine(input_norm);
     torch::Tensor normalised = torch::addcmul(shift.view({1, 1, -1, 1}), x, scale.view({1, 1, -1, 1}));
     if (after_input_norm) normalised = after_input_norm(normalised);
-    const torch::Tensor out = pool_stem_map(folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_());
-    if (first_stage_map == nullptr) return stages->forward(out);
+    const Bf16Autocast autocast(precision_ == Precision::bf16);
+    torch::Tensor map = pool_stem_map(folded_conv_norm(stem, stem_norm, channels_last(normalised)).relu_());
     // Block by block, as the Sequential runs them, to keep the first stage's output.
-    torch::Tensor map = out;
     for (std::size_t block = 0; block < stages->size(); ++block) {
       map = stages->ptr(block)->as<BasicBlock>()->forward(map);
-      if (block == 1) *first_stage_map = map;
+      if (block == 1 && first_stage_map != nullptr) *first_stage_map = map.to(torch::kFloat);
     }
-    return map;
+    return map.to(torch::kFloat);
   }
   // bn0 normalises each Mel bin, so the bins become the channel axis for it.
   torch::Tensor out = input_norm(x.transpose(1, 2)).transpose(1, 2);
@@ -233,12 +259,14 @@ torch::Tensor ResNet18EncoderImpl::forward_map(const torch::Tensor& x, const Inp
     out = !recompute || (parameters.empty() && !out.requires_grad())
               ? run_segment(segment, out)
               : RecomputedSegment::apply(out, this, static_cast<std::int64_t>(segment), at::TensorList(parameters));
-    if (segment == 1 && first_stage_map != nullptr) *first_stage_map = out;
+    if (segment == 1 && first_stage_map != nullptr) *first_stage_map = out.to(torch::kFloat);
   }
-  return out;
+  return out.to(torch::kFloat);
 }
 
 torch::Tensor ResNet18EncoderImpl::run_segment(int segment, const torch::Tensor& x) {
+  // Here, so that a segment recomputed in backward runs in the precision its forward ran in.
+  const Bf16Autocast autocast(precision_ == Precision::bf16);
   if (segment == 0) return pool_stem_map(stem_norm(stem(channels_last(x))).relu_());
   const torch::Tensor out = stages->ptr(2 * segment - 2)->as<BasicBlock>()->forward(x);
   return stages->ptr(2 * segment - 1)->as<BasicBlock>()->forward(out);
@@ -303,6 +331,7 @@ ResNet18Options encoder_options(const RunContext& context) {
   ResNet18Options options{context.input.channels, context.input.mel_bins};
   options.recompute_activations = context.recompute_activations;
   options.memory_budget = context.memory_budget;
+  options.precision = context.precision;
   return options;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "methods/common/precision.h"
 #include "metrics/memory_budget.h"
 #include "metrics/model_cost.h"
 
@@ -27,6 +28,9 @@ struct ResNet18Options {
   // With a budget (--max-memory), a training pass whose activations would take the process past
   // it recomputes them as above; the budget counts those passes.
   std::shared_ptr<MemoryBudget> memory_budget{};
+  // bf16: the stem and the stages run under autocast to bfloat16 (methods/common/precision.h); every
+  // map the encoder returns is fp32.
+  Precision precision = Precision::fp32;
 };
 
 class BasicBlockImpl : public torch::nn::Module {
@@ -88,6 +92,7 @@ class ResNet18EncoderImpl : public torch::nn::Module {
   bool fold_norms_at_inference_;
   bool recompute_activations_;
   std::shared_ptr<MemoryBudget> memory_budget_;
+  Precision precision_;
 };
 TORCH_MODULE(ResNet18Encoder);
 

@@ -64,9 +64,9 @@ class RandomStateGuard {
 }  // namespace
 
 StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
-                           double seconds) {
+                           double seconds, Precision precision) {
   const RandomStateGuard keep_random_state;
-  EncoderStep work(channels, mel_bins, frames, batch);
+  EncoderStep work(channels, mel_bins, frames, batch, precision);
   StepRate rate;
   rate.train_seconds_per_sample = seconds_per_step([&] { work.train(); }, seconds) / static_cast<double>(batch);
   rate.head_step_seconds = head_step_seconds(work.encoder()->embedding_size(), seconds / 4);

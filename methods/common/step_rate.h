@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 
+#include "methods/common/precision.h"
 
 namespace fscil {
 
@@ -18,9 +19,9 @@ struct StepRate {
 
 // Times whole batches of `batch` random log-Mel maps of channels x mel_bins x frames (one untimed
 // warm-up step each, then the median of the steps until `seconds` have passed, at least seven),
-// and the head step, on the threads torch is set to use. Draws nothing from torch's generator
-// that a run would see.
+// and the head step, on the threads torch is set to use, the encoder in `precision`. Draws nothing
+// from torch's generator that a run would see.
 StepRate measure_step_rate(std::int64_t channels, std::int64_t mel_bins, std::int64_t frames, std::int64_t batch,
-                           double seconds = 1.0);
+                           double seconds = 1.0, Precision precision = Precision::fp32);
 
 }  // namespace fscil

@@ -1,10 +1,10 @@
-// Is training in bfloat16 worth a `--precision bf16` (issue 41, item 5)? The shared encoder's
-// training step and inference pass (as resnet18_benchmark runs them) in fp32 and under LibTorch's
-// CPU autocast to bfloat16, and one 3 x 3 convolution, forward and backward, in both types in the
-// channels-last layout oneDNN's kernels use. Each bf16 figure is labelled with its ratio to the fp32
+// Does `--precision bf16` pay on this CPU? The shared encoder's training step and inference pass
+// (as resnet18_benchmark runs them) in fp32 and in bf16 as a run computes it (the encoder's stem
+// and stages under LibTorch's CPU autocast, methods/common/precision.h), and one 3 x 3
+// convolution, forward and backward, in both types in the channels-last layout oneDNN's kernels
+// use. Each bf16 figure is labelled with its ratio to the fp32
 // figure measured just before it in this run. Only a CPU with AVX512-BF16 (or AMX) has the bf16
 // kernels; on others bf16 is emulated, and the label says so.
-#include <ATen/autocast_mode.h>
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <torch/torch.h>
@@ -58,26 +58,15 @@ struct Shape {
   std::int64_t channels, mel_bins, frames;
 };
 
-// Autocast is on only inside one bf16 figure (its warm-up and timed steps), so nothing else runs in bf16.
-class Autocast {
- public:
-  explicit Autocast(bool on) {
-    at::autocast::set_autocast_cpu_dtype(at::kBFloat16);
-    at::autocast::set_cpu_enabled(on);
-  }
-  ~Autocast() { at::autocast::set_cpu_enabled(false); }
-};
-
 void step(benchmark::State& state, Shape shape, bool train, bool bf16) {
   torch::manual_seed(1);
-  fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch);
-  const Autocast autocast(bf16);
+  fscil::EncoderStep work(shape.channels, shape.mel_bins, shape.frames, kBatch,
+                          bf16 ? fscil::Precision::bf16 : fscil::Precision::fp32);
   const auto once = [&] {
     if (train)
       work.train();
     else
       work.infer();
-    at::autocast::clear_cache();  // autocast keeps bf16 copies of the weights, stale after a step
   };
   const double seconds = fscil::seconds_of_steps(state, once);
   report(state, fmt::format("{}/{}", train ? "train" : "infer", shape.name), bf16, seconds);

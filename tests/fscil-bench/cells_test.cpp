@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -81,6 +82,50 @@ TEST(Cli, PlanEstimatesEachCellWithSharedWorkCountedOnce) {
   const std::vector<double> alone_seconds = estimates_in(alone.output);
   ASSERT_EQ(alone_seconds.size(), 6u) << alone.output;
   EXPECT_GT(alone_seconds[2] / alone_seconds[0], seconds[2] / seconds[0]) << plan.output << alone.output;
+}
+
+// Processes that keep every core of this machine busy while they live.
+class BusyCores {
+ public:
+  BusyCores() {
+    for (unsigned core = 0; core < std::max(1u, std::thread::hardware_concurrency()); ++core) {
+      const pid_t child = fork();
+      if (child == 0) {
+        for (volatile unsigned long spin = 0;; spin = spin + 1) {
+        }
+      }
+      if (child > 0) children_.push_back(child);
+    }
+  }
+  ~BusyCores() {
+    for (const pid_t child : children_) {
+      kill(child, SIGKILL);
+      waitpid(child, nullptr, 0);
+    }
+  }
+  BusyCores(const BusyCores&) = delete;
+  BusyCores& operator=(const BusyCores&) = delete;
+
+ private:
+  std::vector<pid_t> children_;
+};
+
+// A calibration while other work holds the cores estimates the machine as loaded: plan says so,
+// and keeps nothing that a later plan would take for this machine's idle speed.
+TEST(Cli, PlanCalibratedUnderLoadSaysSoAndStoresNothing) {
+  TemporaryDirectory cache;
+  CommandResult plan{};
+  {
+    const BusyCores load;
+    plan = run_cli("plan --methods prototype --dataset simtex-mini --profile smoke --threads 1 --cache-dir " +
+                   cache.path().string());
+  }
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("estimate's basis: rates measured now UNDER LOAD (other work held "), std::string::npos)
+      << plan.output;
+  EXPECT_NE(plan.output.find("not idle, and the rates are not stored"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find("--precision bf16"), std::string::npos) << "no word on bf16: " << plan.output;
+  EXPECT_FALSE(std::filesystem::exists(cache.path() / "step_rates.json")) << plan.output;
 }
 
 TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWithoutResults) {

@@ -43,7 +43,7 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   std::ifstream csv(out.path() / "summary.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_EQ(header.rfind("method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,acc_2,AA_std", 0), 0u) << header;
+  EXPECT_EQ(header.rfind("method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,acc_2,AA_std", 0), 0u) << header;
   const std::string first_summary = std::string(std::istreambuf_iterator<char>(csv), {});
 
   std::filesystem::remove(out.path() / "summary.csv");
@@ -231,7 +231,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
   std::string header, row;
   std::getline(csv, header);
   std::getline(csv, row);
-  EXPECT_EQ(row.rfind("cop-fscil,simtex-mini,validation,last,1,", 0), 0u) << row;
+  EXPECT_EQ(row.rfind("cop-fscil,simtex-mini,validation,last,fp32,1,", 0), 0u) << row;
   // Validation-scored runs never stand beside the paper's test numbers or a test run.
   expect_one_error_line(run_cli("report --paper --results " + out.path().string()), "test-split numbers");
   ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out " +
@@ -293,6 +293,28 @@ TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
   std::ofstream(out.path() / "copied" / "prototype__simtex-mini__seed2.json") << other;
   const CommandResult report = run_cli("report --results " + out.path().string());
   expect_one_error_line(report, "runs that cannot share a table (shot=2 against shot=5)");
+}
+
+// --precision bf16: other scores than fp32's, said in the result file and every table, never in
+// one --out with fp32 runs, and what a rerun of its result file runs again.
+TEST(Cli, Bf16IsARunOfItsOwnInEveryFileAndTable) {
+  TemporaryDirectory bf16, fp32, again;
+  const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --threads 1";
+  const auto result = [](const TemporaryDirectory& out) { return out.path() / "results" / "prototype__simtex-mini__seed1.json"; };
+  expect_one_error_line(run_cli("--precision fp16" + common + " --out " + bf16.path().string()),
+                        "--precision fp16: expected fp32 or bf16");
+  ASSERT_EQ(run_cli("--precision bf16" + common + " --out " + bf16.path().string()).exit_code, 0);
+  ASSERT_EQ(run_cli(common + " --out " + fp32.path().string()).exit_code, 0);
+  EXPECT_NE(scores_in(result(bf16)), scores_in(result(fp32)));
+  EXPECT_NE(read_text(result(bf16)).find("\"precision\": \"bf16\""), std::string::npos);
+  EXPECT_EQ(read_text(result(fp32)).find("\"precision\""), std::string::npos) << "fp32 runs keep their identity";
+  EXPECT_NE(read_text(bf16.path() / "summary.csv").find(",last,bf16,1,"), std::string::npos);
+  EXPECT_NE(read_text(bf16.path() / "sessions.csv").find(",last,bf16,1,"), std::string::npos);
+  EXPECT_NE(read_text(bf16.path() / "results.tex").find("test split, encoder in bf16"), std::string::npos);
+  expect_one_error_line(run_cli(common + " --seeds 2 --out " + bf16.path().string()), "(made in bf16 against fp32)");
+
+  ASSERT_EQ(run_cli("rerun " + result(bf16).string() + " --quiet --no-cache --out " + again.path().string()).exit_code, 0);
+  EXPECT_EQ(scores_in(result(again)), scores_in(result(bf16))) << "the rerun ran in fp32?";
 }
 
 TEST(Cli, FeaturesOnDemandAndRecomputedActivationsGiveTheScoresOfTheDefaultRun) {

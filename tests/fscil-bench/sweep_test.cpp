@@ -33,13 +33,13 @@ TEST(Cli, SweepRunsEveryCellApartAndTablesThemWithAColumnPerKey) {
   EXPECT_NE(sweep.output.find("| shot | method |"), std::string::npos) << sweep.output;
   const auto summary = lines_of(out.path() / "summary.csv");
   ASSERT_EQ(summary.size(), 3u);
-  EXPECT_EQ(summary[0].rfind("method,dataset,shot,split,selection,seeds,AA,", 0), 0u) << summary[0];
-  EXPECT_EQ(summary[1].rfind("prototype,simtex-mini,3,test,last,1,", 0), 0u) << summary[1];
-  EXPECT_EQ(summary[2].rfind("prototype,simtex-mini,5,test,last,1,", 0), 0u) << summary[2];
+  EXPECT_EQ(summary[0].rfind("method,dataset,shot,split,selection,precision,seeds,AA,", 0), 0u) << summary[0];
+  EXPECT_EQ(summary[1].rfind("prototype,simtex-mini,3,test,last,fp32,1,", 0), 0u) << summary[1];
+  EXPECT_EQ(summary[2].rfind("prototype,simtex-mini,5,test,last,fp32,1,", 0), 0u) << summary[2];
   // Tidy: a line per cell, seed and session.
   const auto sessions = lines_of(out.path() / "sessions.csv");
   ASSERT_EQ(sessions.size(), 1u + 2 * 3);
-  EXPECT_EQ(sessions[0].rfind("method,dataset,shot,split,selection,seed,session,seen_classes,accuracy,base,novel,", 0),
+  EXPECT_EQ(sessions[0].rfind("method,dataset,shot,split,selection,precision,seed,session,seen_classes,accuracy,base,novel,", 0),
             0u);
   // A cell is the run command with its values: the same numbers as that command on its own.
   const CommandResult alone = run_cli(common.substr(1) + " --set shot=5 --out " + plain.path().string());

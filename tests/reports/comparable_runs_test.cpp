@@ -90,6 +90,15 @@ RunRecord in_cell(RunRecord record, const std::string& key, const std::string& v
   return record;
 }
 
+TEST(ComparableRuns, Bf16AndFp32RunsNeverShareATableEvenAsRowsOfOtherDatasets) {
+  RunRecord bf16 = run_of("prototype", 1, "5");
+  bf16.protocol_parameters["precision"] = "bf16";
+  RunRecord elsewhere = run_of("orco", 1, "5");
+  elsewhere.dataset = "sf-instruments";
+  EXPECT_EQ(incomparability(bf16, elsewhere), "made in bf16 against fp32");
+  EXPECT_EQ(incomparability(elsewhere, bf16), "made in fp32 against bf16");
+}
+
 TEST(ComparableRuns, RunsOfDifferentSweepCellsAreDifferentRowsAndNeverConflict) {
   // A sweep over shot: each cell's runs have the shot of their cell, and every cell has seed 1.
   const RunRecord five = in_cell(run_of("prototype", 1, "5"), "shot", "5");

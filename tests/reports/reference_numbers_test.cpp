@@ -71,6 +71,16 @@ TEST(ReferenceNumbers, MissingRunsAndOtherProtocolsFail) {
             std::string::npos);
 }
 
+TEST(ReferenceNumbers, Bf16RunsNeitherMakeNorMeetFp32References) {
+  RunRecord bf16 = run_of("prototype", 1, {60, 50});
+  bf16.protocol_parameters["precision"] = "bf16";
+  EXPECT_THROW(reference_values_of({bf16}, 2.0), ReportError);
+  const auto reference = reference_values_of({run_of("prototype", 1, {60, 50})}, 2.0);
+  const ReferenceCheck check = check_against_reference({bf16}, reference);
+  ASSERT_EQ(check.failures.size(), 1u);
+  EXPECT_EQ(check.failures[0], "prototype on simtex-mini seed 1: made in bf16; reference numbers are fp32 runs' numbers");
+}
+
 RunRecord on_kernels(RunRecord record, const std::string& kernels) {
   record.machine["kernels"] = kernels;
   return record;

@@ -337,13 +337,13 @@ TEST(SummaryTable, AveragesSeedsAndComputesMetricsPerSeed) {
 TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
-  EXPECT_EQ(header, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
+  EXPECT_EQ(header, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
                     "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95,training");
   EXPECT_NE(csv.find(",63.5310,63.5310,not recorded\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
-  EXPECT_NE(csv.find("prototype,simtex,test,last,1 2,80.0000,10.0000,"), std::string::npos);
+  EXPECT_NE(csv.find("prototype,simtex,test,last,fp32,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
-  EXPECT_EQ(single, "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
-                    "prototype,simtex,test,last,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded\n");
+  EXPECT_EQ(single, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
+                    "prototype,simtex,test,last,fp32,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded\n");
 }
 
 // A run whose base log scored base validation after each epoch of `stage`.
@@ -425,11 +425,33 @@ TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
   other_seed.evaluated_on = "validation";
   const SummaryTable table = summarize_runs({on_validation, other_seed});
   EXPECT_EQ(table.evaluated_on, "validation");
-  EXPECT_NE(render_csv(table).find("prototype,simtex,validation,last,2 3,"), std::string::npos);
+  EXPECT_NE(render_csv(table).find("prototype,simtex,validation,last,fp32,2 3,"), std::string::npos);
   EXPECT_NE(render_markdown(table).find("### simtex, validation split"), std::string::npos);
   EXPECT_NE(render_latex(table).find("Comparison on simtex, validation split"), std::string::npos);
   // A result file says what it was scored on, and one that says nothing was scored on test.
   EXPECT_EQ(run_record_from_json_text(to_json_text(on_validation), "x").evaluated_on, "validation");
+}
+
+// --precision bf16: other numbers, so never averaged or ranked with fp32 runs, and every
+// rendering says so; fp32 tables read as they always did.
+TEST(SummaryTable, SaysWhenTheEncoderRanInBf16AndNeverMixesItWithFp32) {
+  RunRecord bf16 = record_of("prototype", 1, {80, 70});
+  bf16.protocol_parameters["precision"] = "bf16";
+  EXPECT_EQ(precision_of(bf16), "bf16");
+  EXPECT_EQ(precision_of(record_of("prototype", 1, {80, 70})), "fp32") << "files without it are fp32";
+  RunRecord other_dataset = record_of("orco", 1, {85, 75});
+  other_dataset.dataset = "sf-instruments";
+  EXPECT_THROW(summarize_runs({bf16, other_dataset}), ReportError) << "not even as rows of another dataset";
+  RunRecord second_seed = record_of("prototype", 2, {82, 72});
+  second_seed.protocol_parameters["precision"] = "bf16";
+  const SummaryTable table = summarize_runs({bf16, second_seed});
+  EXPECT_EQ(table.precision, "bf16");
+  EXPECT_NE(render_csv(table).find("prototype,simtex,test,last,bf16,1 2,"), std::string::npos) << render_csv(table);
+  EXPECT_NE(render_markdown(table).find("### simtex, test split, encoder in bf16"), std::string::npos);
+  EXPECT_NE(render_latex(table).find("Comparison on simtex, test split, encoder in bf16"), std::string::npos);
+  const SummaryTable fp32 = summarize_runs({record_of("prototype", 1, {80, 70})});
+  EXPECT_NE(render_markdown(fp32).find("### simtex, test split\n"), std::string::npos) << render_markdown(fp32);
+  EXPECT_NE(render_csv(fp32).find(",test,last,fp32,1,"), std::string::npos) << render_csv(fp32);
 }
 
 TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
@@ -507,8 +529,8 @@ TEST(SummaryTable, ASweepOverSelectionKeepsOneSelectionColumn) {
                       in_cell(record_of("orco", 1, {95, 65}), {{"selection", "last"}})});
   EXPECT_TRUE(table.grid_keys().empty());
   const std::string csv = render_csv(table);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training");
-  EXPECT_NE(csv.find("\norco,simtex,test,test-oracle,1,85.0000,"), std::string::npos) << csv;
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training");
+  EXPECT_NE(csv.find("\norco,simtex,test,test-oracle,fp32,1,85.0000,"), std::string::npos) << csv;
 }
 
 TEST(SummaryTable, EveryRenderingHasAColumnPerGridKeyAndTheSelection) {
@@ -518,11 +540,11 @@ TEST(SummaryTable, EveryRenderingHasAColumnPerGridKeyAndTheSelection) {
                                              in_cell(record_of("cop-fscil", 1, {90, 60}), {{"pic_weight", "1"}})});
   // ADR of one step is 100 x drop / first: 20/95 = 21.0526%, 30/95 = 31.5789%, 20/90, 30/90.
   EXPECT_EQ(render_csv(table),
-            "method,dataset,shot,pic_weight,split,selection,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
-            "orco,simtex,5,,test,test-oracle,1,85.0000,20.0000,21.0526,95.0000,75.0000,not recorded\n"
-            "orco,simtex,5,,test,last,1,80.0000,30.0000,31.5789,95.0000,65.0000,not recorded\n"
-            "cop-fscil,simtex,,0.1,test,last,1,80.0000,20.0000,22.2222,90.0000,70.0000,not recorded\n"
-            "cop-fscil,simtex,,1,test,last,1,75.0000,30.0000,33.3333,90.0000,60.0000,not recorded\n");
+            "method,dataset,shot,pic_weight,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
+            "orco,simtex,5,,test,test-oracle,fp32,1,85.0000,20.0000,21.0526,95.0000,75.0000,not recorded\n"
+            "orco,simtex,5,,test,last,fp32,1,80.0000,30.0000,31.5789,95.0000,65.0000,not recorded\n"
+            "cop-fscil,simtex,,0.1,test,last,fp32,1,80.0000,20.0000,22.2222,90.0000,70.0000,not recorded\n"
+            "cop-fscil,simtex,,1,test,last,fp32,1,75.0000,30.0000,33.3333,90.0000,60.0000,not recorded\n");
 
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| shot | pic_weight | method | 0 | 1 | PD | AA | ADR |\n"

@@ -32,12 +32,12 @@ RunRecord two_sessions(const std::string& method, std::uint64_t seed, double bas
 TEST(TidySessions, OneLinePerSeedAndSessionWithNovelCurrentAndHarmonicEmptyInTheBaseSession) {
   // Harmonic means: 2 x 80 x 40 / 120 = 53.3333 and 2 x 60 x 60 / 120 = 60.
   EXPECT_EQ(render_tidy_sessions_csv({two_sessions("orco", 1, 80, 40), two_sessions("orco", 2, 60, 60)}),
-            "method,dataset,split,selection,seed,session,seen_classes,accuracy,base,novel,current,harmonic_mean,"
+            "method,dataset,split,selection,precision,seed,session,seen_classes,accuracy,base,novel,current,harmonic_mean,"
             "train_seconds,test_seconds,R\n"
-            "orco,simtex,test,last,1,0,10,80.0000,80.0000,,,,12.500,0.500,0.1250\n"
-            "orco,simtex,test,last,1,1,15,60.0000,80.0000,40.0000,40.0000,53.3333,1.250,0.250,\n"
-            "orco,simtex,test,last,2,0,10,60.0000,60.0000,,,,12.500,0.500,0.1250\n"
-            "orco,simtex,test,last,2,1,15,45.0000,60.0000,60.0000,60.0000,60.0000,1.250,0.250,\n");
+            "orco,simtex,test,last,fp32,1,0,10,80.0000,80.0000,,,,12.500,0.500,0.1250\n"
+            "orco,simtex,test,last,fp32,1,1,15,60.0000,80.0000,40.0000,40.0000,53.3333,1.250,0.250,\n"
+            "orco,simtex,test,last,fp32,2,0,10,60.0000,60.0000,,,,12.500,0.500,0.1250\n"
+            "orco,simtex,test,last,fp32,2,1,15,45.0000,60.0000,60.0000,60.0000,60.0000,1.250,0.250,\n");
 }
 
 // A column per sweep key in order of first appearance, empty for a run outside that key; the
@@ -51,17 +51,17 @@ TEST(TidySessions, SweepCellsAreColumnsAndEachRunSaysHowItsEpochsWereChosen) {
   weighted.evaluated_on = "validation";
   const std::string csv = render_tidy_sessions_csv({oracle, weighted, two_sessions("prototype", 1, 80, 40)});
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "method,dataset,shot,pic_weight,split,selection,seed,session,seen_classes,accuracy,base,novel,current,"
+            "method,dataset,shot,pic_weight,split,selection,precision,seed,session,seen_classes,accuracy,base,novel,current,"
             "harmonic_mean,train_seconds,test_seconds,R");
-  EXPECT_NE(csv.find("\norco,simtex,5,,test,test-oracle,1,1,15,60.0000,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("\ncop-fscil,simtex,1,0.1,validation,last,3,0,10,60.0000,"), std::string::npos) << csv;
-  EXPECT_NE(csv.find("\nprototype,simtex,,,test,last,1,1,15,60.0000,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\norco,simtex,5,,test,test-oracle,fp32,1,1,15,60.0000,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\ncop-fscil,simtex,1,0.1,validation,last,fp32,3,0,10,60.0000,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\nprototype,simtex,,,test,last,fp32,1,1,15,60.0000,"), std::string::npos) << csv;
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 7);  // header and 3 runs x 2 sessions
 }
 
 TEST(TidySessions, NoRunsIsTheHeaderAlone) {
   EXPECT_EQ(render_tidy_sessions_csv({}),
-            "method,dataset,split,selection,seed,session,seen_classes,accuracy,base,novel,current,harmonic_mean,"
+            "method,dataset,split,selection,precision,seed,session,seen_classes,accuracy,base,novel,current,harmonic_mean,"
             "train_seconds,test_seconds,R\n");
 }
 

@@ -32,7 +32,7 @@ TEST(CommandArguments, WriteEveryOptionAndTheSweepWithoutThreadsResumeOrCell) {
       "sweep", "--grid", "pspc_probes=5,50", "--methods", "pits-sc,cop-fscil/cpi+pspc", "--dataset", "simtex-mini",
       "--profile", "smoke", "--seeds", "1-3", "--out", "out dir", "--features", "auto", "--split-mode", "recording",
       "--class-order", "natural", "--evaluate-on", "test", "--selection", "validation", "--cache-dir", "/c",
-      "--no-stage-cache", "--save-model", "--set", "pic_weight=0.1", "--set", "shot=3"};
+      "--no-stage-cache", "--save-model", "--precision", "fp32", "--set", "pic_weight=0.1", "--set", "shot=3"};
   EXPECT_EQ(words, expected);
   EXPECT_EQ(command_arguments(options, {}).front(), "--methods");
 }

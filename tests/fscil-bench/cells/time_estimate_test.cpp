@@ -133,26 +133,57 @@ TEST(MachineRates, AreReadFromTheCacheFolderAndMeasuredWhereItHoldsNoneThatRead)
   const auto file = cache.path() / "step_rates.json";
   std::ofstream(file) << "{\"" << step_rates_key(sizes) << "\": {\"train_seconds_per_sample\": 0.002, "
                       << "\"infer_seconds_per_sample\": 0.0005, \"head_step_seconds\": 0.004}}";
-  const StepRate stored = machine_rates(sizes);
+  const Calibration from_file = machine_rates(sizes);
+  const StepRate& stored = from_file.rates;
+  EXPECT_TRUE(from_file.idle);
+  EXPECT_NE(from_file.basis.find("rates stored in " + file.string()), std::string::npos) << from_file.basis;
+  EXPECT_NE(from_file.basis.find("2.00 ms a sample trained"), std::string::npos) << from_file.basis;
   EXPECT_EQ(stored.train_seconds_per_sample, 0.002);
   EXPECT_EQ(stored.infer_seconds_per_sample, 0.0005);
   EXPECT_EQ(stored.head_step_seconds, 0.004);
 
   // Another thread count is another entry: measured (a training step costs more than inference).
   sizes.threads = 2;
-  const StepRate measured = machine_rates(sizes);
+  const StepRate measured = machine_rates(sizes).rates;
   EXPECT_GT(measured.train_seconds_per_sample, measured.infer_seconds_per_sample);
   EXPECT_GT(measured.infer_seconds_per_sample, 0);
   EXPECT_GT(measured.head_step_seconds, 0);
   sizes.threads = 1;
-  EXPECT_EQ(machine_rates(sizes).train_seconds_per_sample, 0.002) << "the stored entry is kept beside it";
+  EXPECT_EQ(machine_rates(sizes).rates.train_seconds_per_sample, 0.002) << "the stored entry is kept beside it";
 
   std::ofstream(file) << "{\"cut";  // a broken file is measured over
-  EXPECT_GT(machine_rates(sizes).train_seconds_per_sample, 0);
+  EXPECT_GT(machine_rates(sizes).rates.train_seconds_per_sample, 0);
   sizes.cache_dir.clear();  // --no-cache: measured, nothing written
   std::filesystem::remove(file);
-  EXPECT_GT(machine_rates(sizes).train_seconds_per_sample, 0);
+  EXPECT_GT(machine_rates(sizes).rates.train_seconds_per_sample, 0);
   EXPECT_FALSE(std::filesystem::exists(file));
+}
+
+// bf16 is another entry of the same file, beside fp32's.
+TEST(MachineRates, APrecisionOtherThanFp32IsAnotherEntry) {
+  CommandSizes sizes;
+  sizes.threads = 1;
+  const std::string fp32 = step_rates_key(sizes);
+  sizes.precision = Precision::bf16;
+  EXPECT_NE(step_rates_key(sizes), fp32);
+  EXPECT_NE(step_rates_key(sizes).find("| bf16 |"), std::string::npos) << step_rates_key(sizes);
+}
+
+// Two cores, a ten-second calibration on two threads: whether other work held the cores meanwhile.
+TEST(CalibrationLoad, IsIdleOnlyWhenOtherWorkHeldLessThanAFifthOfACoreAndItsThreadsRan) {
+  const CalibrationLoad alone{10, 19.5, 20.1, 2};
+  EXPECT_NEAR(alone.others_cores(), 0.06, 1e-9);
+  EXPECT_NEAR(alone.own_share(), 0.975, 1e-9);
+  EXPECT_TRUE(alone.idle());
+  // A neighbour on one core: our OpenMP threads spin while they wait, so their own share still
+  // looks full; the machine's busy time shows the neighbour.
+  const CalibrationLoad spinning_beside_a_neighbour{10, 19.0, 29.0, 2};
+  EXPECT_NEAR(spinning_beside_a_neighbour.others_cores(), 1.0, 1e-9);
+  EXPECT_FALSE(spinning_beside_a_neighbour.idle());
+  // A host taking the VM's time: our threads ran 60% of theirs, the rest is steal.
+  EXPECT_FALSE((CalibrationLoad{10, 12.0, 20.1, 2}.idle()));
+  // /proc/stat unreadable: judged by its own share alone.
+  EXPECT_TRUE((CalibrationLoad{10, 19.5, 0, 2}.idle()));
 }
 
 }  // namespace

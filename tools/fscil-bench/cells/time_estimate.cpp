@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "core/atomic_file.h"
 #include "core/parameter_set.h"
 #include "core/stopwatch.h"
+#include "metrics/resource_usage.h"
 #include "protocols/protocol_runner.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
@@ -27,15 +29,14 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kRatesFile = "step_rates.json";
-constexpr double kKeptCpuShare = 0.9;
+constexpr double kIdleOwnShare = 0.9;     // (ours) of its threads' time, at least
+constexpr double kIdleOthersCores = 0.2;  // (ours) other work's cores, less than: an idle VM's own noise is some 0.05
 constexpr int kTimedInferencePasses = 1 + kTimedInferenceRepeats;  // time_inference's warm-up and timed passes
 // A run's step against the calibration's median step (ours, docs/profiling.md): base epochs took
 // 1.18-1.45 times the calibration on the main job's shape, and 0.94 times on the NS-100 shape,
 // whose calibrations ranged 11.7-15.4 ms a sample within a minute on this VM; 1.1 is the mean of
 // the two shapes' medians.
 constexpr double kRunOverCalibration = 1.1;
-
-double process_cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 nlohmann::json read_rates_file(const fs::path& file) {
   std::ifstream in(file);
@@ -44,53 +45,118 @@ nlohmann::json read_rates_file(const fs::path& file) {
   return stored.is_object() ? stored : nlohmann::json::object();
 }
 
-std::optional<StepRate> stored_rates(const nlohmann::json& stored, const std::string& key) {
-  const auto found = stored.find(key);
-  if (found == stored.end() || !found->is_object()) return std::nullopt;
+std::optional<StepRate> stored_rates(const nlohmann::json& entry) {
+  if (!entry.is_object()) return std::nullopt;
   StepRate rates;
   for (auto [name, value] : {std::pair{"train_seconds_per_sample", &rates.train_seconds_per_sample},
                              std::pair{"infer_seconds_per_sample", &rates.infer_seconds_per_sample},
                              std::pair{"head_step_seconds", &rates.head_step_seconds}}) {
-    const auto field = found->find(name);
-    if (field == found->end() || !field->is_number() || !(field->get<double>() > 0)) return std::nullopt;
+    const auto field = entry.find(name);
+    if (field == entry.end() || !field->is_number() || !(field->get<double>() > 0)) return std::nullopt;
     *value = field->get<double>();
   }
   return rates;
 }
 
-}  // namespace
-
-// What the rates depend on: the CPU, the kernels the libraries chose, the threads, the shape and the batch.
-std::string step_rates_key(const CommandSizes& sizes) {
-  const auto machine = describe_machine();
-  return fmt::format("v2 | {} | {} | threads {} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
-                     sizes.threads, sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
+std::string rates_text(const StepRate& rates) {
+  return fmt::format("{:.2f} ms a sample trained, {:.2f} inferred, {:.2f} ms a head step",
+                     1e3 * rates.train_seconds_per_sample, 1e3 * rates.infer_seconds_per_sample,
+                     1e3 * rates.head_step_seconds);
 }
 
-StepRate machine_rates(const CommandSizes& sizes) {
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  std::array<char, 32> text{};
+  std::strftime(text.data(), text.size(), "%Y-%m-%d %H:%M UTC", &utc);
+  return text.data();
+}
+
+std::string precision_name(Precision precision) { return precision == Precision::bf16 ? "bf16" : "fp32"; }
+
+}  // namespace
+
+double CalibrationLoad::others_cores() const {
+  if (machine_cpu_seconds <= 0 || wall_seconds <= 0) return 0;
+  return std::max(0.0, (machine_cpu_seconds - own_cpu_seconds) / wall_seconds);
+}
+
+double CalibrationLoad::own_share() const {
+  return wall_seconds > 0 ? own_cpu_seconds / (wall_seconds * std::max(threads, 1)) : 1;
+}
+
+bool CalibrationLoad::idle() const { return own_share() >= kIdleOwnShare && others_cores() < kIdleOthersCores; }
+
+// What the rates depend on: the CPU, the kernels the libraries chose, the threads, the precision
+// (fp32 keys keep the form they had before bf16 existed), the shape and the batch.
+std::string step_rates_key(const CommandSizes& sizes) {
+  const auto machine = describe_machine();
+  return fmt::format("v2 | {} | {} | threads {}{} | {}x{}x{} | batch {}", machine.at("cpu"), machine.at("kernels"),
+                     sizes.threads, sizes.precision == Precision::fp32 ? "" : " | " + precision_name(sizes.precision),
+                     sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
+}
+
+Calibration machine_rates(const CommandSizes& sizes) {
   const std::string key = step_rates_key(sizes);
   const fs::path file = sizes.cache_dir.empty() ? fs::path() : fs::path(sizes.cache_dir) / kRatesFile;
   nlohmann::json stored = file.empty() ? nlohmann::json::object() : read_rates_file(file);
-  if (const auto rates = stored_rates(stored, key)) return *rates;
+  if (const auto entry = stored.find(key); entry != stored.end()) {
+    if (const auto rates = stored_rates(*entry)) {
+      const std::string when = entry->value("measured", std::string("before dates were kept"));
+      return {*rates, true, fmt::format("rates stored in {} (measured {}, the machine idle): {}", file.string(), when,
+                                        rates_text(*rates))};
+    }
+  }
 
-  const double cpu_before = process_cpu_seconds();
+  const CpuTimes before = cpu_times_now();
   const Stopwatch wall;
-  const StepRate rates = measure_step_rate(sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
-  // Kept only when its threads had the cores to themselves: a calibration beside other work (or
-  // on a host that takes the VM's time) would slow every later plan's estimate.
-  const double cpu_share = (process_cpu_seconds() - cpu_before) / (wall.seconds() * std::max(sizes.threads, 1));
-  if (!file.empty() && cpu_share >= kKeptCpuShare) {
+  const StepRate rates = measure_step_rate(sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch,
+                                           1.0, sizes.precision);
+  const CpuTimes after = cpu_times_now();
+  const CalibrationLoad load{wall.seconds(), after.process_seconds - before.process_seconds,
+                             after.machine_seconds - before.machine_seconds, std::max(sizes.threads, 1)};
+  if (!load.idle()) {
+    // Kept, it would stand for this machine's speed in every later plan.
+    return {rates, false,
+            fmt::format("rates measured now UNDER LOAD (other work held {:.2f} cores; the calibration's {} threads had "
+                        "{:.0f}% of their time): {}; the estimates are this machine's as loaded now, not idle, and the "
+                        "rates are not stored: plan again on an idle machine",
+                        load.others_cores(), load.threads, 100 * load.own_share(), rates_text(rates))};
+  }
+  std::string basis = fmt::format("rates measured now, the machine idle (other work held {:.2f} cores): {}",
+                                  load.others_cores(), rates_text(rates));
+  if (!file.empty()) {
     stored[key] = {{"train_seconds_per_sample", rates.train_seconds_per_sample},
                    {"infer_seconds_per_sample", rates.infer_seconds_per_sample},
-                   {"head_step_seconds", rates.head_step_seconds}};
+                   {"head_step_seconds", rates.head_step_seconds},
+                   {"measured", utc_now()}};
     std::error_code unwritable;
     fs::create_directories(file.parent_path(), unwritable);
     try {
       write_file_atomically(file, stored.dump(2) + "\n");
+      basis += fmt::format("; stored in {}", file.string());
     } catch (const std::exception&) {  // a cache that cannot be written costs time, not the plan
     }
   }
-  return rates;
+  return {rates, true, basis};
+}
+
+std::string bf16_note(const CommandSizes& sizes) {
+  if (!bf16_is_native()) {
+    return fmt::format("--precision bf16: emulated on this CPU (oneDNN's kernels {}: no AVX512-BF16 or AMX), slower "
+                       "than fp32",
+                       numeric_kernels());
+  }
+  CommandSizes other = sizes;
+  other.precision = sizes.precision == Precision::bf16 ? Precision::fp32 : Precision::bf16;
+  const Calibration fp32 = machine_rates(sizes.precision == Precision::fp32 ? sizes : other);
+  const Calibration bf16 = machine_rates(sizes.precision == Precision::bf16 ? sizes : other);
+  const double train = fp32.rates.train_seconds_per_sample / bf16.rates.train_seconds_per_sample;
+  const double infer = fp32.rates.infer_seconds_per_sample / bf16.rates.infer_seconds_per_sample;
+  return fmt::format("--precision bf16 on this CPU: training step {:.2f}x, inference {:.2f}x fp32's speed on this "
+                     "command's shape{} (its numbers differ from fp32's: docs/profiling.md, \"bfloat16\")",
+                     train, infer, fp32.idle && bf16.idle ? "" : ", measured under load");
 }
 
 double run_seconds(const MethodEntry& entry, const ParameterSet& read, const RunSizes& sizes,
@@ -120,18 +186,22 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
                                 head_steps * rates.head_step_seconds);
 }
 
-void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
-                    bool one_after_another) {
+std::vector<Calibration> estimate_cells(const RunOptions& options, const std::vector<std::string>& grid,
+                                        std::vector<BenchCell>& cells, bool one_after_another) {
   one_after_another = one_after_another && options.selection == "last" && uses_stage_cache(options);
   std::map<std::string, std::set<std::string>> trained_stages;  // per grid cell and seed
   std::map<std::map<std::string, std::string>, std::pair<CommandSizes, StepRate>> of_grid_cell;
+  std::vector<Calibration> calibrations;
   for (BenchCell& cell : cells) {
     const RunOptions run = grid.empty() ? options : sweep_cell_options(options, cell.grid);
     auto found = of_grid_cell.find(cell.grid);
     if (found == of_grid_cell.end()) {
       CommandSizes sizes = command_sizes(run);
-      const StepRate rates = machine_rates(sizes);
-      found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), rates}).first;
+      const Calibration calibration = machine_rates(sizes);
+      const bool new_basis = std::none_of(calibrations.begin(), calibrations.end(),
+                                          [&](const Calibration& seen) { return seen.basis == calibration.basis; });
+      if (new_basis) calibrations.push_back(calibration);
+      found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), calibration.rates}).first;
     }
     const CommandSizes& sizes = found->second.first;
     const StepRate& rates = found->second.second;
@@ -147,6 +217,7 @@ void estimate_cells(const RunOptions& options, const std::vector<std::string>& g
           run_seconds(entry, sizes.method_parameters.at(cell.methods[i]), run_sizes, rates, i > 0, stages);
     }
   }
+  return calibrations;
 }
 
 }  // namespace fscil

@@ -12,16 +12,47 @@ namespace fscil {
 
 class ParameterSet;
 
+// How much of the machine other work held while a calibration ran, from the CPU times read before
+// and after it (metrics/resource_usage.h).
+struct CalibrationLoad {
+  double wall_seconds = 0;
+  double own_cpu_seconds = 0;      // the calibrating process's, every thread
+  double machine_cpu_seconds = 0;  // every core's busy time, ours included; 0 where unknown
+  int threads = 1;                 // the calibration's
+  // Cores other processes (and a host's steal) held on average meanwhile; 0 where unknown.
+  double others_cores() const;
+  // The share of its threads' time the calibration had.
+  double own_share() const;
+  // It had the cores to itself: its threads had at least 90% of their time and other work held
+  // less than a fifth of a core. OpenMP threads spin while they wait for one another, so a
+  // calibration slowed down by a neighbour can still show its threads busy: the machine's
+  // busy time is what tells.
+  bool idle() const;
+};
+
+// The rates an estimate uses, and the one line `plan` prints about them: where they come from
+// and whether the machine was idle when they were measured.
+struct Calibration {
+  StepRate rates;
+  bool idle = true;
+  std::string basis;
+};
+
 // This machine's rates for the command (methods/common/step_rate.h): from `step_rates.json` in
-// its cache folder when that holds this CPU, kernels, threads, shape and batch; otherwise
-// measured now (seconds; some 20 on the audio shapes) and stored there, unless the process had
-// less than 90% of its threads' CPU time meanwhile (other work, or a host taking the VM's time:
-// used for this plan, not kept), under --no-cache, or where the folder cannot be written. An
-// entry that does not read is measured over.
-StepRate machine_rates(const CommandSizes& sizes);
+// its cache folder when that holds this CPU, kernels, threads, precision, shape and batch;
+// otherwise measured now (seconds; some 20 on the audio shapes) and stored there, unless other
+// work held the cores meanwhile (CalibrationLoad::idle: such a calibration estimates the machine
+// as loaded then, is used for this plan only and says so), under --no-cache, or where the folder
+// cannot be written. An entry that does not read is measured over.
+Calibration machine_rates(const CommandSizes& sizes);
 // The entry of `step_rates.json` that holds them; its leading version changes whenever what
 // measure_step_rate() times changes.
 std::string step_rates_key(const CommandSizes& sizes);
+
+// Whether --precision bf16 would pay here, for `plan` to say: on a CPU whose kernels compute
+// bf16 natively (AVX512-BF16 or AMX) the command's training step and inference pass in bf16
+// against fp32 (from the rate cache, or measured once); elsewhere, that bf16 is emulated there.
+std::string bf16_note(const CommandSizes& sizes);
 
 // One run's seconds at `rates`: its stages (MethodEntry::work) and what the runner does for every
 // method: embedding the scored samples (once per run where the entry's sessions keep the
@@ -38,7 +69,8 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
 // cells run apart share it through the stage cache); otherwise (Slurm tasks at once), under a
 // --selection other than last (no stage is shared then), --no-stage-cache or --no-cache, every
 // cell trains its own.
-void estimate_cells(const RunOptions& options, const std::vector<std::string>& grid, std::vector<BenchCell>& cells,
-                    bool one_after_another = true);
+// Returns every calibration it used, once.
+std::vector<Calibration> estimate_cells(const RunOptions& options, const std::vector<std::string>& grid,
+                                        std::vector<BenchCell>& cells, bool one_after_another = true);
 
 }  // namespace fscil

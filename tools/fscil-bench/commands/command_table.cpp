@@ -113,12 +113,16 @@ class PlanCommand : public CellsCommand {
   }
   int run(Invocation& invocation) override {
     auto cells = plan_cells(invocation.run, grid_);
+    std::vector<std::string> notes;  // what the estimate rests on, and whether bf16 pays here
     // A listing of cells that cannot run is no plan: each is checked (the estimate checks as it sizes).
     if (missing_only_ || no_estimate_) {
       check_every_cell(invocation.run, grid_);
     } else {
       try {
-        estimate_cells(invocation.run, grid_, cells);
+        for (const Calibration& calibration : estimate_cells(invocation.run, grid_, cells)) {
+          notes.push_back("estimate's basis: " + calibration.basis);
+        }
+        notes.push_back(bf16_note(command_sizes(invocation.run)));
       } catch (const DataNotHere& error) {  // a real dataset on a machine without its data: the cells still list
         for (BenchCell& cell : cells) cell.estimated_seconds = -1;
         fmt::print(stderr, "fscil-bench plan: no time estimate: {}\n", error.what());
@@ -132,6 +136,7 @@ class PlanCommand : public CellsCommand {
       status = cells.empty() ? exit_status::success : exit_status::bad_input;
     }
     fmt::print("{}", render_plan(cells));
+    for (const std::string& note : notes) fmt::print("{}\n", note);
     return status;
   }
   bool missing_only_ = false;

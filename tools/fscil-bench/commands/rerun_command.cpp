@@ -30,6 +30,8 @@ RunOptions rerun_options(const RunRecord& record, const RunOptions& where) {
       run.class_order = value;
     } else if (key == "max_memory") {
       run.max_memory = value;  // bytes
+    } else if (key == "precision") {
+      run.precision = value;
     } else {
       run.assignments.push_back(key + "=" + value);
     }

@@ -29,6 +29,7 @@
 #include "protocols/shared_stages.h"
 #include "protocols/stage_cache.h"
 #include "core/stop_request.h"
+#include "core/shown_text.h"
 #include "protocols/session_schedule.h"
 #include "reports/comparable_runs.h"
 #include "tools/fscil-bench/options/byte_size.h"
@@ -185,6 +186,7 @@ struct CommandPlan {
   std::vector<ParameterSet> method_params;  // what each method read of them
   ParameterSet protocol_params, dataset_params;
   bool recompute_activations = false;
+  Precision precision = Precision::fp32;
   EvaluationSplit evaluation{};
   EpochSelection selection{};
   std::int64_t memory_limit = 0;
@@ -197,11 +199,18 @@ struct CommandPlan {
   std::map<std::string, std::string> protocol_parameters;
 };
 
+Precision precision_of(const RunOptions& options) {
+  if (options.precision == "fp32") return Precision::fp32;
+  if (options.precision == "bf16") return Precision::bf16;
+  throw ProtocolError(fmt::format("--precision {}: expected fp32 or bf16", shown_text(options.precision)));
+}
+
 void check_run_options(const RunOptions& options) {
   if (options.out.empty()) throw ProtocolError("--out '': expected a folder for the results");
   if (!is_selection_name(options.selection)) {
     throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
   }
+  precision_of(options);
   sessions_to_save(options.save_embeddings, 0);  // its form before any work, its numbers once sessions are drawn
 }
 
@@ -242,6 +251,7 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   const SplitMode split_mode = parse_split_mode(plan.protocol_params.text("split_mode", "recording"));
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
   plan.recompute_activations = plan.protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
+  plan.precision = precision_of(options);
   plan.evaluation = parse_evaluation_split(options.evaluate_on);
   plan.selection = options.selection == "validation"    ? EpochSelection::validation
                    : options.selection == "test-oracle" ? EpochSelection::test_oracle
@@ -276,6 +286,8 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   // Like recompute: the same numbers, another peak. Named only when given, so runs without it
   // keep their identity.
   if (plan.memory_limit > 0) plan.protocol_parameters["max_memory"] = std::to_string(plan.memory_limit);
+  // Other numbers than fp32's: never one table with fp32 runs (named only when given, like max_memory).
+  if (plan.precision != Precision::fp32) plan.protocol_parameters["precision"] = options.precision;
   // Chosen on test or on validation: never one table with runs of the last epoch (named only when
   // given, like max_memory).
   if (options.selection != "last") plan.protocol_parameters["selection"] = options.selection;
@@ -366,6 +378,7 @@ CommandRuns start_runs(const RunOptions& options, const CommandPlan& plan) {
   runs.run_values["front_end"] = plan.dataset.description.front_end.describe();
   runs.run_values["recompute"] = plan.recompute_activations ? "stages" : "none";
   if (plan.memory_limit > 0) runs.run_values["max_memory"] = std::to_string(plan.memory_limit);
+  if (plan.precision != Precision::fp32) runs.run_values["precision"] = options.precision;
   runs.finished = finished_runs(options);
   return runs;
 }
@@ -617,6 +630,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
   }
   seed_run(run);
   run.context.recompute_activations = plan.recompute_activations;
+  run.context.precision = plan.precision;
   run.context.selection = plan.selection;
   run.context.memory_budget = plan.memory_budget;
   run.context.seed = run.seed;
@@ -659,7 +673,7 @@ bool uses_stage_cache(const RunOptions& options) { return !options.no_cache && !
 CommandSizes command_sizes(const RunOptions& options) {
   ProgressReporter quiet = ProgressReporter::quiet();
   const CommandPlan plan = plan_command(options, quiet);
-  CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads,
+  CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads, plan.precision,
                      SupervisedSchedule::from(plan.params).batch_size, {},
                      options.no_cache ? std::string() : cache_folder(options).string(), {}};
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {

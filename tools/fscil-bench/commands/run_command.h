@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/parameter_set.h"
+#include "methods/common/precision.h"
 #include "methods/method_registry.h"
 
 namespace fscil {
@@ -38,6 +39,7 @@ struct RunOptions {
   // Python's torch.load (protocols/saved_model.h).
   bool save_model = false;
   std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
+  std::string precision = "fp32";  // fp32 | bf16: what the shared encoder computes in (methods/common/precision.h)
   std::vector<std::string> assignments;  // --set key=value
   bool quiet = false;
   // --cell K (tools/fscil-bench/cells/bench_cells.h): this command is cell K of a plan, narrowed to its methods and
@@ -58,6 +60,7 @@ std::string run_benchmark(const RunOptions& options);
 struct CommandSizes {
   std::int64_t channels = 0, mel_bins = 0, frames = 0;
   int threads = 0;
+  Precision precision = Precision::fp32;
   std::int64_t pretraining_batch = 0;
   std::map<std::uint64_t, RunSizes> runs;  // by seed
   std::string cache_dir;                   // where this command caches (empty: --no-cache)

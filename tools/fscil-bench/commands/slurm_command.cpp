@@ -105,7 +105,9 @@ std::string suggested_time(const RunOptions& options, const std::vector<std::str
                            const std::vector<int>& chosen, int cpus) {
   RunOptions on_a_task = options;
   on_a_task.threads = cpus;
-  estimate_cells(on_a_task, grid, cells, /*one_after_another=*/false);
+  for (const Calibration& calibration : estimate_cells(on_a_task, grid, cells, /*one_after_another=*/false)) {
+    if (!calibration.idle) fmt::print(stderr, "fscil-bench slurm: time limit from {}\n", calibration.basis);
+  }
   double longest = 0;
   for (int index : chosen) longest = std::max(longest, cells[static_cast<std::size_t>(index)].estimated_seconds);
   return clock_time(std::max(600.0, std::ceil(1.5 * longest / 60) * 60));

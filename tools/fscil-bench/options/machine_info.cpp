@@ -97,6 +97,11 @@ std::string numeric_kernels() {
                      onednn_isa());
 }
 
+bool bf16_is_native() {
+  const std::string isa = onednn_isa();
+  return isa == "avx512_core_bf16" || isa == "avx512_core_amx";
+}
+
 std::map<std::string, std::string> describe_machine() {
   std::array<char, 256> host{};
   gethostname(host.data(), host.size() - 1);

@@ -12,6 +12,8 @@ std::map<std::string, std::string> library_versions();
 // onednn=avx2" (no commas: it is a field of reference files). Runs agree to the bit only when
 // these and the thread count agree.
 std::string numeric_kernels();
+// Whether oneDNN computes bfloat16 natively on this CPU (AVX512-BF16 or AMX); elsewhere it emulates it.
+bool bf16_is_native();
 // The harness's release (CMake's project version).
 std::string harness_version();
 // The git commit this binary was built from (with "-dirty" when tracked files differed from it),

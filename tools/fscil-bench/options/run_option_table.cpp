@@ -64,6 +64,10 @@ const std::vector<RunOption>& run_option_table() {
        "in backward (as --set recompute=stages, the same numbers), and freed large blocks go back to the kernel; an "
        "estimate, not a cap",
        &R::max_memory, W::when_given, true, {}, false, "expected a size such as 4G"},
+      {"--precision",
+       "fp32 | bf16: what the shared encoder computes in; bf16 runs its convolutions in bfloat16 (faster only on a "
+       "CPU with AVX512-BF16 or AMX: fscil-bench plan says), other numbers than fp32, never in one table with fp32 runs",
+       &R::precision, W::always, true, {}, true},
       {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, W::when_given, true},
       {"--quiet", "no progress on stderr", &R::quiet},
       {"--cell",
