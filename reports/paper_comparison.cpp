@@ -71,6 +71,10 @@ std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, con
     throw ReportError(fmt::format("these runs were scored on the {} split; the paper's numbers are test-split numbers",
                                   ours.evaluated_on));
   }
+  if (ours.precision != "fp32") {
+    throw ReportError(fmt::format("these runs' encoder computed in {}; the paper's numbers are fp32 numbers",
+                                  ours.precision));
+  }
   std::vector<PaperComparisonRow> rows;
   for (const auto& row : ours.rows) {
     const auto dataset = std::find_if(std::begin(kDatasets), std::end(kDatasets),

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "tests/reports/session_runs.h"
 
 namespace fscil {
@@ -39,6 +40,12 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
   EXPECT_NE(markdown.find("cop-fscil/cpi on simtex (simulated HapTex)"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("our data are simulated, the paper's real"), std::string::npos);
   EXPECT_NE(markdown.find("| ours - paper | -28.00 | -28.00 | -28.00 |"), std::string::npos) << markdown;
+}
+
+TEST(PaperComparison, Bf16RunsAreNotComparedWithThePapersFp32Numbers) {
+  RunRecord bf16 = run_with_accuracies("cop-fscil", "haptex", 1, {80, 70, 66});
+  bf16.protocol_parameters["precision"] = "bf16";
+  EXPECT_THROW(compare_with_paper(summarize_runs({bf16}), paper()), ReportError);
 }
 
 TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem) {

@@ -171,19 +171,26 @@ TEST(MachineRates, APrecisionOtherThanFp32IsAnotherEntry) {
 
 // Two cores, a ten-second calibration on two threads: whether other work held the cores meanwhile.
 TEST(CalibrationLoad, IsIdleOnlyWhenOtherWorkHeldLessThanAFifthOfACoreAndItsThreadsRan) {
-  const CalibrationLoad alone{10, 19.5, 20.1, 2};
+  const CalibrationLoad alone{10, 19.5, 20.1, 2, 2};
   EXPECT_NEAR(alone.others_cores(), 0.06, 1e-9);
   EXPECT_NEAR(alone.own_share(), 0.975, 1e-9);
   EXPECT_TRUE(alone.idle());
   // A neighbour on one core: our OpenMP threads spin while they wait, so their own share still
   // looks full; the machine's busy time shows the neighbour.
-  const CalibrationLoad spinning_beside_a_neighbour{10, 19.0, 29.0, 2};
+  const CalibrationLoad spinning_beside_a_neighbour{10, 19.0, 29.0, 2, 2};
   EXPECT_NEAR(spinning_beside_a_neighbour.others_cores(), 1.0, 1e-9);
   EXPECT_FALSE(spinning_beside_a_neighbour.idle());
   // A host taking the VM's time: our threads ran 60% of theirs, the rest is steal.
-  EXPECT_FALSE((CalibrationLoad{10, 12.0, 20.1, 2}.idle()));
+  EXPECT_FALSE((CalibrationLoad{10, 12.0, 20.1, 2, 2}.idle()));
   // /proc/stat unreadable: judged by its own share alone.
-  EXPECT_TRUE((CalibrationLoad{10, 19.5, 0, 2}.idle()));
+  EXPECT_TRUE((CalibrationLoad{10, 19.5, 0, 2, 2}.idle()));
+  // Sixteen cores, two of them ours: six cores of other work leave ours alone.
+  const CalibrationLoad on_a_larger_machine{10, 19.5, 80, 2, 16};
+  EXPECT_NEAR(on_a_larger_machine.others_cores(), 6.05, 1e-9);
+  EXPECT_EQ(on_a_larger_machine.contended_cores(), 0);
+  EXPECT_TRUE(on_a_larger_machine.idle());
+  // More threads than cores: its share counts the cores it could have had.
+  EXPECT_TRUE((CalibrationLoad{10, 19.5, 20.1, 4, 2}.idle()));
 }
 
 }  // namespace

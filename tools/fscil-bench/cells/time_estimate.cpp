@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "core/atomic_file.h"
+#include "core/parallel_for.h"
 #include "core/parameter_set.h"
 #include "core/stopwatch.h"
 #include "metrics/resource_usage.h"
@@ -82,11 +83,15 @@ double CalibrationLoad::others_cores() const {
   return std::max(0.0, (machine_cpu_seconds - own_cpu_seconds) / wall_seconds);
 }
 
-double CalibrationLoad::own_share() const {
-  return wall_seconds > 0 ? own_cpu_seconds / (wall_seconds * std::max(threads, 1)) : 1;
+double CalibrationLoad::contended_cores() const {
+  return std::max(0.0, others_cores() - std::max(0, cores - threads));
 }
 
-bool CalibrationLoad::idle() const { return own_share() >= kIdleOwnShare && others_cores() < kIdleOthersCores; }
+double CalibrationLoad::own_share() const {
+  return wall_seconds > 0 ? own_cpu_seconds / (wall_seconds * std::clamp(threads, 1, std::max(cores, 1))) : 1;
+}
+
+bool CalibrationLoad::idle() const { return own_share() >= kIdleOwnShare && contended_cores() < kIdleOthersCores; }
 
 // What the rates depend on: the CPU, the kernels the libraries chose, the threads, the precision
 // (fp32 keys keep the form they had before bf16 existed), the shape and the batch.
@@ -115,17 +120,20 @@ Calibration machine_rates(const CommandSizes& sizes) {
                                            1.0, sizes.precision);
   const CpuTimes after = cpu_times_now();
   const CalibrationLoad load{wall.seconds(), after.process_seconds - before.process_seconds,
-                             after.machine_seconds - before.machine_seconds, std::max(sizes.threads, 1)};
+                             after.machine_seconds - before.machine_seconds, std::max(sizes.threads, 1),
+                             thread_count(0)};
+  const std::string others =
+      load.machine_cpu_seconds > 0 ? fmt::format("other work held {:.2f} of {} cores", load.others_cores(), load.cores)
+                                   : std::string("other work unknown: /proc/stat unread");
   if (!load.idle()) {
     // Kept, it would stand for this machine's speed in every later plan.
     return {rates, false,
-            fmt::format("rates measured now UNDER LOAD (other work held {:.2f} cores; the calibration's {} threads had "
-                        "{:.0f}% of their time): {}; the estimates are this machine's as loaded now, not idle, and the "
-                        "rates are not stored: plan again on an idle machine",
-                        load.others_cores(), load.threads, 100 * load.own_share(), rates_text(rates))};
+            fmt::format("rates measured now UNDER LOAD ({}; the calibration's {} threads had {:.0f}% of their time): "
+                        "{}; the estimates are this machine's as loaded now, not idle, and the rates are not stored: "
+                        "plan again on an idle machine",
+                        others, load.threads, 100 * load.own_share(), rates_text(rates))};
   }
-  std::string basis = fmt::format("rates measured now, the machine idle (other work held {:.2f} cores): {}",
-                                  load.others_cores(), rates_text(rates));
+  std::string basis = fmt::format("rates measured now, the machine idle ({}): {}", others, rates_text(rates));
   if (!file.empty()) {
     stored[key] = {{"train_seconds_per_sample", rates.train_seconds_per_sample},
                    {"infer_seconds_per_sample", rates.infer_seconds_per_sample},

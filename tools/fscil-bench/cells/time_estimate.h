@@ -19,14 +19,18 @@ struct CalibrationLoad {
   double own_cpu_seconds = 0;      // the calibrating process's, every thread
   double machine_cpu_seconds = 0;  // every core's busy time, ours included; 0 where unknown
   int threads = 1;                 // the calibration's
+  int cores = 1;                   // the machine's
   // Cores other processes (and a host's steal) held on average meanwhile; 0 where unknown.
   double others_cores() const;
-  // The share of its threads' time the calibration had.
+  // Of those, the ones the calibration's threads needed: other work on cores its threads leave
+  // free costs it nothing.
+  double contended_cores() const;
+  // The share of its threads' time the calibration had (threads beyond the cores counted as cores).
   double own_share() const;
-  // It had the cores to itself: its threads had at least 90% of their time and other work held
-  // less than a fifth of a core. OpenMP threads spin while they wait for one another, so a
-  // calibration slowed down by a neighbour can still show its threads busy: the machine's
-  // busy time is what tells.
+  // It had the cores it needs to itself: its threads had at least 90% of their time and other
+  // work took less than a fifth of a core from them. OpenMP threads spin while they wait for one
+  // another, so a calibration slowed down by a neighbour can still show its threads busy: the
+  // machine's busy time is what tells.
   bool idle() const;
 };
 
@@ -34,7 +38,7 @@ struct CalibrationLoad {
 // and whether the machine was idle when they were measured.
 struct Calibration {
   StepRate rates;
-  bool idle = true;
+  bool idle = false;
   std::string basis;
 };
 

@@ -199,7 +199,7 @@ struct CommandPlan {
   std::map<std::string, std::string> protocol_parameters;
 };
 
-Precision precision_of(const RunOptions& options) {
+Precision chosen_precision(const RunOptions& options) {
   if (options.precision == "fp32") return Precision::fp32;
   if (options.precision == "bf16") return Precision::bf16;
   throw ProtocolError(fmt::format("--precision {}: expected fp32 or bf16", shown_text(options.precision)));
@@ -210,7 +210,7 @@ void check_run_options(const RunOptions& options) {
   if (!is_selection_name(options.selection)) {
     throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
   }
-  precision_of(options);
+  chosen_precision(options);
   sessions_to_save(options.save_embeddings, 0);  // its form before any work, its numbers once sessions are drawn
 }
 
@@ -251,7 +251,7 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   const SplitMode split_mode = parse_split_mode(plan.protocol_params.text("split_mode", "recording"));
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
   plan.recompute_activations = plan.protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
-  plan.precision = precision_of(options);
+  plan.precision = chosen_precision(options);
   plan.evaluation = parse_evaluation_split(options.evaluate_on);
   plan.selection = options.selection == "validation"    ? EpochSelection::validation
                    : options.selection == "test-oracle" ? EpochSelection::test_oracle
