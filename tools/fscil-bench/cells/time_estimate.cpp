@@ -109,7 +109,7 @@ Calibration machine_rates(const CommandSizes& sizes) {
   if (const auto entry = stored.find(key); entry != stored.end()) {
     if (const auto rates = stored_rates(*entry)) {
       const std::string when = entry->value("measured", std::string("before dates were kept"));
-      return {*rates, true, fmt::format("rates stored in {} (measured {}, the machine idle): {}", file.string(), when,
+      return {sizes, *rates, true, fmt::format("rates stored in {} (measured {}, the machine idle): {}", file.string(), when,
                                         rates_text(*rates))};
     }
   }
@@ -127,7 +127,7 @@ Calibration machine_rates(const CommandSizes& sizes) {
                                    : std::string("other work unknown: /proc/stat unread");
   if (!load.idle()) {
     // Kept, it would stand for this machine's speed in every later plan.
-    return {rates, false,
+    return {sizes, rates, false,
             fmt::format("rates measured now UNDER LOAD ({}; the calibration's {} threads had {:.0f}% of their time): "
                         "{}; the estimates are this machine's as loaded now, not idle, and the rates are not stored: "
                         "plan again on an idle machine",
@@ -147,19 +147,20 @@ Calibration machine_rates(const CommandSizes& sizes) {
     } catch (const std::exception&) {  // a cache that cannot be written costs time, not the plan
     }
   }
-  return {rates, true, basis};
+  return {sizes, rates, true, basis};
 }
 
-std::string bf16_note(const CommandSizes& sizes) {
+std::string bf16_note(const Calibration& own) {
   if (!bf16_is_native()) {
     return fmt::format("--precision bf16: emulated on this CPU (oneDNN's kernels {}: no AVX512-BF16 or AMX), slower "
                        "than fp32",
                        numeric_kernels());
   }
-  CommandSizes other = sizes;
-  other.precision = sizes.precision == Precision::bf16 ? Precision::fp32 : Precision::bf16;
-  const Calibration fp32 = machine_rates(sizes.precision == Precision::fp32 ? sizes : other);
-  const Calibration bf16 = machine_rates(sizes.precision == Precision::bf16 ? sizes : other);
+  CommandSizes other_sizes = own.sizes;
+  other_sizes.precision = own.sizes.precision == Precision::bf16 ? Precision::fp32 : Precision::bf16;
+  const Calibration other = machine_rates(other_sizes);
+  const Calibration& fp32 = own.sizes.precision == Precision::fp32 ? own : other;
+  const Calibration& bf16 = own.sizes.precision == Precision::bf16 ? own : other;
   const double train = fp32.rates.train_seconds_per_sample / bf16.rates.train_seconds_per_sample;
   const double infer = fp32.rates.infer_seconds_per_sample / bf16.rates.infer_seconds_per_sample;
   return fmt::format("--precision bf16 on this CPU: training step {:.2f}x, inference {:.2f}x fp32's speed on this "
@@ -205,11 +206,12 @@ std::vector<Calibration> estimate_cells(const RunOptions& options, const std::ve
     auto found = of_grid_cell.find(cell.grid);
     if (found == of_grid_cell.end()) {
       CommandSizes sizes = command_sizes(run);
-      const Calibration calibration = machine_rates(sizes);
+      Calibration calibration = machine_rates(sizes);
+      const StepRate rates = calibration.rates;
       const bool new_basis = std::none_of(calibrations.begin(), calibrations.end(),
                                           [&](const Calibration& seen) { return seen.basis == calibration.basis; });
-      if (new_basis) calibrations.push_back(calibration);
-      found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), calibration.rates}).first;
+      if (new_basis) calibrations.push_back(std::move(calibration));
+      found = of_grid_cell.emplace(cell.grid, std::pair{std::move(sizes), rates}).first;
     }
     const CommandSizes& sizes = found->second.first;
     const StepRate& rates = found->second.second;

@@ -37,6 +37,7 @@ struct CalibrationLoad {
 // The rates an estimate uses, and the one line `plan` prints about them: where they come from
 // and whether the machine was idle when they were measured.
 struct Calibration {
+  CommandSizes sizes;  // what it was measured for
   StepRate rates;
   bool idle = false;
   std::string basis;
@@ -54,9 +55,10 @@ Calibration machine_rates(const CommandSizes& sizes);
 std::string step_rates_key(const CommandSizes& sizes);
 
 // Whether --precision bf16 would pay here, for `plan` to say: on a CPU whose kernels compute
-// bf16 natively (AVX512-BF16 or AMX) the command's training step and inference pass in bf16
-// against fp32 (from the rate cache, or measured once); elsewhere, that bf16 is emulated there.
-std::string bf16_note(const CommandSizes& sizes);
+// bf16 natively (AVX512-BF16 or AMX) the training step and inference pass of `own`'s shape in
+// bf16 against fp32 (the other precision from the rate cache, or measured once); elsewhere, that
+// bf16 is emulated there.
+std::string bf16_note(const Calibration& own);
 
 // One run's seconds at `rates`: its stages (MethodEntry::work) and what the runner does for every
 // method: embedding the scored samples (once per run where the entry's sessions keep the

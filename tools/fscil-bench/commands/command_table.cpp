@@ -119,14 +119,15 @@ class PlanCommand : public CellsCommand {
       check_every_cell(invocation.run, grid_);
     } else {
       try {
+        const std::vector<Calibration> calibrations = estimate_cells(invocation.run, grid_, cells);
         bool idle = true;
-        for (const Calibration& calibration : estimate_cells(invocation.run, grid_, cells)) {
+        for (const Calibration& calibration : calibrations) {
           notes.push_back("estimate's basis: " + calibration.basis);
           idle = idle && calibration.idle;
         }
         // Two loaded calibrations make no ratio, and without the cache each plan would time bf16 anew.
-        notes.push_back(idle && !invocation.run.no_cache
-                            ? bf16_note(command_sizes(invocation.run))
+        notes.push_back(idle && !invocation.run.no_cache && !calibrations.empty()
+                            ? bf16_note(calibrations.front())
                             : "--precision bf16: not timed by this plan (machine loaded, or --no-cache)");
       } catch (const DataNotHere& error) {  // a real dataset on a machine without its data: the cells still list
         for (BenchCell& cell : cells) cell.estimated_seconds = -1;
