@@ -15,7 +15,7 @@ std::string csv_field(const std::string& text) {
   return quoted + "\"";
 }
 
-std::string number(double value) { return std::isfinite(value) ? fmt::format("{:.8g}", value) : ""; }
+std::string csv_number(double value) { return std::isfinite(value) ? fmt::format("{:.8g}", value) : ""; }
 
 }  // namespace
 
@@ -26,9 +26,9 @@ std::string render_figure_csv(const Figure& figure) {
     for (std::size_t i = 0; i < series.x.size(); ++i) {
       const double x = series.x[i];
       const std::string x_text = figure.x_categories.empty() || !std::isfinite(x)
-                                     ? number(x)
+                                     ? csv_number(x)
                                      : csv_field(figure.x_categories[static_cast<std::size_t>(x)]);
-      out += fmt::format("{},{},{}\n", csv_field(series.label), x_text, number(series.y[i]));
+      out += fmt::format("{},{},{}\n", csv_field(series.label), x_text, csv_number(series.y[i]));
     }
   }
   return out;

@@ -12,14 +12,14 @@ namespace fscil {
 
 namespace {
 
-const char* const kHeader = "table,dataset,method,venue,session_acc,PD,AA,ADR";
+const char* const kPaperTablesHeader = "table,dataset,method,venue,session_acc,PD,AA,ADR";
 
 }  // namespace
 
 std::vector<PaperRow> load_paper_tables(const std::filesystem::path& path) {
   const std::vector<std::string> lines = csv_lines(read_text_file(path));
-  if (lines.empty() || lines[0] != kHeader) {
-    throw ReportError(fmt::format("{}:1: header must be '{}'", path.string(), kHeader));
+  if (lines.empty() || lines[0] != kPaperTablesHeader) {
+    throw ReportError(fmt::format("{}:1: header must be '{}'", path.string(), kPaperTablesHeader));
   }
   std::vector<PaperRow> rows;
   for (std::size_t number = 1; number < lines.size(); ++number) {

@@ -47,7 +47,7 @@ std::string latex_label(const std::string& text) {
   return out;
 }
 
-std::string number(double value) { return fmt::format("{:.8g}", value); }
+std::string pgf_number(double value) { return fmt::format("{:.8g}", value); }
 
 std::string colour_name(std::size_t index) { return fmt::format("fscilfigure{}", index); }
 
@@ -75,8 +75,8 @@ std::string equal_unit_limits(const Figure& figure) {
   const double units_per_cm = std::max((x.high - x.low) / axis_width_cm, (y.high - y.low) / axis_height_cm);
   const double x_centre = (x.low + x.high) / 2, y_centre = (y.low + y.high) / 2;
   const double x_half = units_per_cm * axis_width_cm / 2, y_half = units_per_cm * axis_height_cm / 2;
-  return fmt::format("xmin={}, xmax={}, ymin={}, ymax={}", number(x_centre - x_half), number(x_centre + x_half),
-                     number(y_centre - y_half), number(y_centre + y_half));
+  return fmt::format("xmin={}, xmax={}, ymin={}, ymax={}", pgf_number(x_centre - x_half), pgf_number(x_centre + x_half),
+                     pgf_number(y_centre - y_half), pgf_number(y_centre + y_half));
 }
 
 bool has_legend(const Figure& figure) {
@@ -107,7 +107,7 @@ std::string axis_options(const Figure& figure) {
       widest = std::max(widest, figure.x_categories[c].size());
     }
     options.push_back(fmt::format("xtick={{{}}}, xticklabels={{{}}}, xmin=-0.5, xmax={}", fmt::join(ticks, ","),
-                                  fmt::join(labels, ","), number(static_cast<double>(categories) - 0.5)));
+                                  fmt::join(labels, ","), pgf_number(static_cast<double>(categories) - 0.5)));
     // About 0.18 cm per character of an axis label: slant them when they would run into each other.
     if (0.18 * static_cast<double>(widest) > axis_width_cm / static_cast<double>(categories)) {
       options.push_back("x tick label style={rotate=35, anchor=north east}");
@@ -145,9 +145,9 @@ std::string coordinates(const Figure& figure, const FigureSeries& series) {
   for (std::size_t i = 0; i < series.x.size(); ++i) {
     const bool finite = std::isfinite(series.x[i]) && std::isfinite(series.y[i]);
     if (finite) {
-      points.push_back(fmt::format("({},{})", number(series.x[i]), number(series.y[i])));
+      points.push_back(fmt::format("({},{})", pgf_number(series.x[i]), pgf_number(series.y[i])));
     } else if (figure.kind == FigureKind::lines && std::isfinite(series.x[i])) {
-      points.push_back(fmt::format("({},nan)", number(series.x[i])));
+      points.push_back(fmt::format("({},nan)", pgf_number(series.x[i])));
     }
   }
   return fmt::format("{}", fmt::join(points, " "));

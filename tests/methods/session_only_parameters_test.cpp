@@ -40,16 +40,16 @@ void expect_same_base(const BaseOutcome& expected, const BaseOutcome& actual, co
   EXPECT_TRUE(torch::equal(actual.torch_state, expected.torch_state)) << what;
 }
 
-struct Case {
+struct SessionOnlyCase {
   std::string method;
   Values base;     // a short base training
   Values changed;  // every session-only parameter, each with a value other than its default
 };
 
-class SessionOnlyParameters : public ::testing::TestWithParam<Case> {};
+class SessionOnlyParameters : public ::testing::TestWithParam<SessionOnlyCase> {};
 
 TEST_P(SessionOnlyParameters, LeaveTheBaseSessionAsItWas) {
-  const Case& c = GetParam();
+  const SessionOnlyCase& c = GetParam();
   ParameterSet probe;
   for (const auto& [key, value] : c.base) probe.set(key, value);
   create_method(c.method, probe);  // marks the parameters it reads
@@ -72,19 +72,14 @@ TEST_P(SessionOnlyParameters, LeaveTheBaseSessionAsItWas) {
 const Values kPitsBase = {{"pretrain_epochs", "1"}, {"pit_episodes", "2"}, {"pit_epochs", "1"}, {"batch_size", "32"}};
 const Values kPitsSession = {{"epochs_new", "7"}, {"lr_new", "0.37"}, {"lamda_proto", "0.3"}};
 
-Values with(Values values, const Values& more) {
-  values.insert(more.begin(), more.end());
-  return values;
-}
-
 INSTANTIATE_TEST_SUITE_P(
     Methods, SessionOnlyParameters,
     ::testing::Values(
-        Case{"pits-sc", kPitsBase, kPitsSession},
-        Case{"cop-fscil", kPitsBase,
-             with(kPitsSession, {{"pspc_probes", "3"}, {"pspc_beta", "2.5"}, {"pspc_q", "own"},
+        SessionOnlyCase{"pits-sc", kPitsBase, kPitsSession},
+        SessionOnlyCase{"cop-fscil", kPitsBase,
+             with_more(kPitsSession, {{"pspc_probes", "3"}, {"pspc_beta", "2.5"}, {"pspc_q", "own"},
                                  {"pspc_instability", "raw"}, {"pspc_mean", "views"}, {"session_loss", "joint"}})},
-        Case{"orco",
+        SessionOnlyCase{"orco",
              {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"orco_base_epochs", "2"}, {"orco_views", "2"},
               {"orco_target_steps", "50"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"},
               {"orco_session_stop", "last"}},
@@ -92,22 +87,22 @@ INSTANTIATE_TEST_SUITE_P(
               {"orco_session_warmup", "2"}, {"orco_session_stop", "validation"}, {"orco_session_check", "2"},
               {"orco_session_patience", "4"}, {"orco_novel_ce_weight", "0.9"}, {"orco_base_ce_weight", "0.1"},
               {"orco_session_orthogonality", "all"}}},
-        Case{"adbs", {{"pretrain_epochs", "1"}, {"batch_size", "32"}},
+        SessionOnlyCase{"adbs", {{"pretrain_epochs", "1"}, {"batch_size", "32"}},
              {{"adbs_session_steps", "3"}, {"adbs_session_lr", "0.05"}}},
-        Case{"pan", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"}},
+        SessionOnlyCase{"pan", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"}},
              {{"pan_session_steps", "3"}, {"pan_session_lr", "0.05"}}},
-        Case{"dsn", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"dsn_session_epochs", "3"}},
+        SessionOnlyCase{"dsn", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"dsn_session_epochs", "3"}},
              {{"dsn_gamma", "0.5"}, {"dsn_session_epochs", "2"}, {"dsn_session_lr", "0.05"}, {"dsn_session_batch", "64"},
               {"dsn_refresh_every", "1"}, {"dsn_new_samples", "3"}, {"dsn_old_samples", "3"}, {"dsn_base_samples", "3"},
               {"dsn_sample_k", "2"}, {"dsn_top_k", "1"}}},
-        Case{"comp-fscil", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"comp_session_steps", "3"}},
+        SessionOnlyCase{"comp-fscil", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"comp_session_steps", "3"}},
              {{"comp_session_steps", "2"}, {"comp_session_lr", "0.05"}}},
-        Case{"amfo", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"amfo_session_epochs", "3"}},
+        SessionOnlyCase{"amfo", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"amfo_session_epochs", "3"}},
              {{"amfo_session_fusion_weight", "5"}, {"amfo_session_margin_weight", "1"}, {"amfo_session_binary_weight", "0.2"},
               {"amfo_gamma", "0.5"}, {"amfo_r", "0.1"}, {"amfo_session_epochs", "2"}, {"amfo_session_lr", "0.05"},
               {"amfo_session_batch", "64"}, {"amfo_refresh_every", "1"}, {"amfo_new_samples", "3"},
               {"amfo_old_samples", "3"}}}),
-    [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
+    [](const ::testing::TestParamInfo<SessionOnlyCase>& info) { return test_name_of(info.param.method); });
 
 // Every method whose entry says base_ignores_selection ends its base in the same state under every
 // selection (the stage cache shares it).

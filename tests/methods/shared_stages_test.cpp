@@ -123,16 +123,16 @@ TEST(SharedPretraining, NoStageIsSharedWhereThePretrainingsDiffer) {
 }
 
 // The pretraining a method files with the values its entry declares as read after it changed.
-struct Case {
+struct StageCase {
   std::string method;
   Values changed;             // every declared value that leaves the stage shared, each changed
   std::set<std::string> own;  // declared values that make the method train its own (above)
 };
 
-class ReadAfterPretraining : public ::testing::TestWithParam<Case> {};
+class ReadAfterPretraining : public ::testing::TestWithParam<StageCase> {};
 
 TEST_P(ReadAfterPretraining, LeavesThePretrainingAsItWas) {
-  const Case& c = GetParam();
+  const StageCase& c = GetParam();
   const MethodEntry& entry = method_entry(c.method);
   std::set<std::string> declared = entry.shared_stages.at(kStage);
   declared.insert(entry.session_only_parameters.begin(), entry.session_only_parameters.end());
@@ -164,17 +164,12 @@ const Values kPitsAfter = {{"pit_epochs", "2"}, {"pit_lr", "0.02"},   {"pit_epis
                            {"pit_kept", "2"},   {"pit_shot", "2"},    {"pit_query", "3"},    {"pit_alpha", "0.4"},
                            {"epochs_new", "7"}, {"lr_new", "0.37"},   {"lamda_proto", "0.3"}};
 
-Values with(Values values, const Values& more) {
-  values.insert(more.begin(), more.end());
-  return values;
-}
-
 INSTANTIATE_TEST_SUITE_P(
     Methods, ReadAfterPretraining,
     ::testing::Values(
-        Case{"pits-sc", kPitsAfter, {}},
-        Case{"cop-fscil/cpi",
-             with(kPitsAfter,
+        StageCase{"pits-sc", kPitsAfter, {}},
+        StageCase{"cop-fscil/cpi",
+             with_more(kPitsAfter,
                   {{"cpi_global_bias", "0.5"}, {"cpi_channel_bias", "0.3"}, {"cpi_tilt", "0.4"}, {"cpi_noise", "0.2"},
                    {"cpi_max_shift", "0.3"}, {"cpi_reference", "random"}, {"cpi_distance", "raw"},
                    {"cpi_references", "same"}, {"cpi_mix_alpha", "0.4"}, {"cpi_support_coverage", "0.3"},
@@ -184,7 +179,7 @@ INSTANTIATE_TEST_SUITE_P(
                    {"pspc_beta", "2.5"}, {"pspc_q", "own"}, {"pspc_instability", "raw"},
                    {"pspc_mean", "views"}, {"session_loss", "joint"}}),
              {"cpi_space", "cpi_bank", "cpi_pretrain_coverage"}}),
-    [](const ::testing::TestParamInfo<Case>& info) { return test_name_of(info.param.method); });
+    [](const ::testing::TestParamInfo<StageCase>& info) { return test_name_of(info.param.method); });
 
 }  // namespace
 }  // namespace fscil

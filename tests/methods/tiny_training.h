@@ -19,6 +19,13 @@ inline std::unique_ptr<Method> tiny_method(const std::string& name, const std::m
   return create_method(name, params);
 }
 
+// `values` and the keys of `more` it lacks.
+inline std::map<std::string, std::string> with_more(std::map<std::string, std::string> values,
+                                                    const std::map<std::string, std::string>& more) {
+  values.insert(more.begin(), more.end());
+  return values;
+}
+
 // A method's name as a parameterised test's name: '-', '/' and '+' become '_'.
 inline std::string test_name_of(std::string method) {
   for (char& c : method) {

@@ -17,7 +17,7 @@
 namespace fscil {
 namespace {
 
-ParameterSet short_training() {
+ParameterSet verdict_training() {
   ParameterSet params;
   for (const auto& [key, value] : std::map<std::string, std::string>{
            {"pretrain_epochs", "2"}, {"pit_episodes", "2"}, {"pit_epochs", "2"}, {"batch_size", "32"},
@@ -31,7 +31,7 @@ ParameterSet short_training() {
 
 MethodState trained_base(const std::string& name, const SessionData* validation, RunContext& context) {
   torch::manual_seed(9);
-  const std::unique_ptr<Method> method = create_method(name, short_training());
+  const std::unique_ptr<Method> method = create_method(name, verdict_training());
   context.validation = validation;
   method->train_base(tiny_base(), context);
   return method->save_state();
@@ -125,7 +125,7 @@ void expect_stop_at_first_level_epoch(const std::string& method, const Parameter
 }
 
 TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChangesNothingBefore) {
-  ParameterSet params = short_training();
+  ParameterSet params = verdict_training();
   params.set("pretrain_epochs", "10");  // it levels off after 6; a step decay's rates do not depend on the cap
   params.set("lr_step", "4");
   expect_stop_at_first_level_epoch("prototype", params, "base", 10, 11);
@@ -133,7 +133,7 @@ TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChange
 
 // pits-sc's pseudo-incremental stage (every cop-fscil row's too) stops the same way.
 TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
-  ParameterSet params = short_training();  // its 2-epoch pretraining is too short to stop
+  ParameterSet params = verdict_training();  // its 2-epoch pretraining is too short to stop
   params.set("pit_epochs", "8");
   expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, 12);
 }

@@ -5,12 +5,12 @@
 namespace fscil {
 namespace {
 
-struct Case {
+struct ConvolutionCase {
   std::int64_t height, width, kernel, stride, padding;
 };
 
 // Values and both gradients (input, weight) of conv2d, to float rounding.
-void expect_conv2d(const Case& c) {
+void expect_conv2d(const ConvolutionCase& c) {
   torch::manual_seed(3);
   const torch::Tensor input = torch::randn({5, 7, c.height, c.width}).requires_grad_();
   const torch::Tensor weight = torch::randn({6, 7, c.kernel, c.kernel}).requires_grad_();
@@ -32,8 +32,8 @@ void expect_conv2d(const Case& c) {
 TEST(UnrolledConvolution, IsConv2dWithItsGradientsOnTinyMaps) {
   // HapTex's last stage (2 x 1, and its stride-2 entry from 4 x 2), and shapes with every tap
   // partly in the padding.
-  for (const Case& c : {Case{2, 1, 3, 1, 1}, Case{4, 2, 3, 2, 1}, Case{1, 1, 3, 1, 1}, Case{3, 2, 3, 1, 1},
-                        Case{2, 3, 3, 2, 1}, Case{4, 3, 1, 2, 0}, Case{5, 4, 3, 1, 0}}) {
+  for (const ConvolutionCase& c : {ConvolutionCase{2, 1, 3, 1, 1}, ConvolutionCase{4, 2, 3, 2, 1}, ConvolutionCase{1, 1, 3, 1, 1}, ConvolutionCase{3, 2, 3, 1, 1},
+                        ConvolutionCase{2, 3, 3, 2, 1}, ConvolutionCase{4, 3, 1, 2, 0}, ConvolutionCase{5, 4, 3, 1, 0}}) {
     SCOPED_TRACE(testing::Message() << c.height << "x" << c.width << " k" << c.kernel << " s" << c.stride << " p" << c.padding);
     expect_conv2d(c);
   }

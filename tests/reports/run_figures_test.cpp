@@ -25,12 +25,6 @@ void expect_values(const Values& actual, const Values& expected, const std::stri
   }
 }
 
-RunRecord in_cell(RunRecord record, std::map<std::string, std::string> grid, const std::string& selection = "last") {
-  record.grid = std::move(grid);
-  record.selection = selection;
-  return record;
-}
-
 // orco on simtex, two seeds of three sessions: all 85, 75, 65 on average; base 1 point higher;
 // novel 0 as recorded in session 0, then 50 and 40; harmonic 0, then 60 and 52.
 RunRecord orco_seed(std::uint64_t seed, const Values& all, const Values& novel, const Values& harmonic) {

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,13 @@ inline RunRecord run_with_accuracies(const std::string& method, const std::strin
     session.accuracy.samples = 5 * session.seen_classes;
     record.sessions.push_back(session);
   }
+  return record;
+}
+
+// `record` as a run of the sweep cell `grid`, under the epoch selection `selection`.
+inline RunRecord in_cell(RunRecord record, std::map<std::string, std::string> grid, const std::string& selection = "last") {
+  record.grid = std::move(grid);
+  record.selection = selection;
   return record;
 }
 

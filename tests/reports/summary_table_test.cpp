@@ -1,4 +1,5 @@
 #include "reports/summary_table.h"
+#include "tests/reports/session_runs.h"
 
 #include <gtest/gtest.h>
 
@@ -481,12 +482,6 @@ TEST(SummaryTable, LatexEscapesNamesAndResultFilesRefuseNamesNoTableCanHold) {
                  "odd.json: field 'method': expected letters, digits, '_', '.', '+', '/' or '-', found 'proto\\ntype & "
                  "100% best'");
   }
-}
-
-RunRecord in_cell(RunRecord record, std::map<std::string, std::string> grid, const std::string& selection = "last") {
-  record.grid = std::move(grid);
-  record.selection = selection;
-  return record;
 }
 
 TEST(SummaryTable, SweepCellsAndSelectionsAreRowsOfTheirOwn) {
