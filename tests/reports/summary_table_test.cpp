@@ -1,5 +1,4 @@
 #include "reports/summary_table.h"
-#include "tests/reports/session_runs.h"
 
 #include <gtest/gtest.h>
 
@@ -13,6 +12,7 @@
 #include "core/error.h"
 #include "metrics/convergence.h"
 #include "reports/run_record.h"
+#include "tests/reports/session_runs.h"
 #include "tests/temporary_directory.h"
 
 namespace fscil {
