@@ -26,11 +26,25 @@ TrainedStage stage_of(RunCheckpoint checkpoint) {
 
 }  // namespace
 
-std::optional<SharedStages::Found> SharedStages::find(const std::string& identity, ProgressReporter* progress) const {
+std::optional<SharedStages::Found> SharedStages::find(const std::string& identity, ProgressReporter* progress) {
   if (const auto kept = kept_.find(identity); kept != kept_.end()) {
     return Found{kept->second.first, "shared with " + kept->second.second};
   }
   if (!cache_) return std::nullopt;
+  if (std::optional<Found> found = from_cache(identity, progress)) return found;
+  if (claims_.count(identity) > 0) return std::nullopt;  // a run of this process trains it (and failed to file it)
+  std::optional<FileLock> claim = cache_->claim(identity, [&] {
+    if (progress != nullptr) {
+      progress->note(fmt::format("waiting for a stage another process is training (lock {}), to take it over",
+                                 cache_->claim_file_of(identity).string()));
+    }
+  });
+  if (std::optional<Found> found = from_cache(identity, progress)) return found;  // filed while we waited
+  if (claim) claims_.emplace(identity, std::move(*claim));
+  return std::nullopt;
+}
+
+std::optional<SharedStages::Found> SharedStages::from_cache(const std::string& identity, ProgressReporter* progress) const {
   std::string dropped;
   std::optional<RunCheckpoint> cached = cache_->find(identity, dropped);
   if (!dropped.empty() && progress != nullptr) {
@@ -49,12 +63,17 @@ void SharedStages::store(const std::string& identity, TrainedStage stage, const 
       if (progress != nullptr) progress->note(fmt::format("stage cache not written: {}", error.what()));
     }
   }
+  release(identity);
   kept_.emplace(identity, std::make_pair(std::move(stage), trained_by));
 }
 
 std::optional<TrainedStage> RunStages::find(const std::string& stage) {
-  std::optional<SharedStages::Found> found = shared_.find(identity_of_(stage), progress_);
-  if (!found) return std::nullopt;
+  const std::string identity = identity_of_(stage);
+  std::optional<SharedStages::Found> found = shared_.find(identity, progress_);
+  if (!found) {
+    claimed_.push_back(identity);
+    return std::nullopt;
+  }
   taken_ = stage + " " + found->source;
   if (progress_ != nullptr) {
     progress_->note(fmt::format("{}, trained in {:.1f} s", taken_, found->stage.seconds));
@@ -74,11 +93,20 @@ void RunStages::file_trained() {
       if (judged.verdict != TrainingVerdict::not_learning) continue;
       if (progress_ != nullptr) progress_->note(fmt::format("stages not shared or cached: {}", describe_stage(judged)));
       trained_.clear();
+      release_claims();
       return;
     }
   }
   for (auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), std::move(trained), method_name_, progress_);
   trained_.clear();
+  release_claims();
 }
+
+void RunStages::release_claims() {
+  for (const std::string& identity : claimed_) shared_.release(identity);
+  claimed_.clear();
+}
+
+RunStages::~RunStages() { release_claims(); }
 
 }  // namespace fscil

@@ -25,16 +25,23 @@ class SharedStages {
     TrainedStage stage;
     std::string source;  // "shared with <method>" or "from the stage cache"
   };
-  // The stage filed under `identity`, if any; a damaged cache entry is removed and noted.
-  std::optional<Found> find(const std::string& identity, ProgressReporter* progress) const;
+  // The stage filed under `identity`, if any; a damaged cache entry is removed and noted. When the
+  // cache has none, the caller is to train it: the entry is claimed (StageCache::claim) until
+  // store() or release(), and a stage another process is training is waited for and taken.
+  std::optional<Found> find(const std::string& identity, ProgressReporter* progress);
   // Keeps `stage` for this command and files it in the cache (once; a cache that cannot be
   // written is noted, as it costs time, not the run).
   void store(const std::string& identity, TrainedStage stage, const std::string& trained_by,
              ProgressReporter* progress);
+  // Gives up the claim on `identity` without filing a stage (the run failed, or the stage did
+  // not learn): a waiting process trains it itself.
+  void release(const std::string& identity) { claims_.erase(identity); }
 
  private:
+  std::optional<Found> from_cache(const std::string& identity, ProgressReporter* progress) const;
   std::map<std::string, std::pair<TrainedStage, std::string>> kept_;
   std::optional<StageCache> cache_;
+  std::map<std::string, FileLock> claims_;  // entries this process is training
 };
 
 // One run's StageStore: it names each stage's identity from the run's values (IdentityOf),
@@ -46,6 +53,9 @@ class RunStages : public StageStore {
   using IdentityOf = std::function<std::string(const std::string& stage)>;
   RunStages(SharedStages& shared, IdentityOf identity_of, std::string method_name, ProgressReporter* progress)
       : shared_(shared), identity_of_(std::move(identity_of)), method_name_(std::move(method_name)), progress_(progress) {}
+  ~RunStages();  // gives up the claims of stages it did not file
+  RunStages(const RunStages&) = delete;
+  RunStages& operator=(const RunStages&) = delete;
   std::optional<TrainedStage> find(const std::string& stage) override;
   void store(const std::string& stage, TrainedStage trained) override;
   // Shares the stages stored so far (once the base session has ended).
@@ -60,6 +70,8 @@ class RunStages : public StageStore {
   ProgressReporter* progress_;
   std::string taken_;
   std::vector<std::pair<std::string, TrainedStage>> trained_;
+  std::vector<std::string> claimed_;  // identities of the stages it found nowhere
+  void release_claims();
 };
 
 }  // namespace fscil

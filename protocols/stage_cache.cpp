@@ -2,8 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+#include <thread>
+
 #include "core/stable_hash.h"
 #include "core/error.h"
+#include "core/stop_request.h"
 
 namespace fscil {
 
@@ -36,6 +40,30 @@ std::string base_stage_identity(const BaseStageInputs& inputs) {
 
 std::filesystem::path StageCache::file_of(const std::string& identity) const {
   return folder_ / fmt::format("base-{}.ckpt", stable_hash(identity));
+}
+
+std::filesystem::path StageCache::claim_file_of(const std::string& identity) const {
+  std::filesystem::path folder = folder_;
+  folder += "-claims";
+  return folder / file_of(identity).filename().replace_extension(".lock");
+}
+
+std::optional<FileLock> StageCache::claim(const std::string& identity, const std::function<void()>& on_wait) const {
+  const std::filesystem::path lock_file = claim_file_of(identity);
+  bool waited = false;
+  try {
+    std::error_code ignored;
+    std::filesystem::create_directories(lock_file.parent_path(), ignored);
+    while (true) {
+      if (std::optional<FileLock> lock = FileLock::try_lock(lock_file, FileLock::Kind::exclusive)) return lock;
+      if (!waited && on_wait) on_wait();
+      waited = true;
+      stop_if_requested();
+      std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    }
+  } catch (const FileError&) {
+    return std::nullopt;
+  }
 }
 
 std::optional<RunCheckpoint> StageCache::find(const std::string& identity, std::string& dropped) const {

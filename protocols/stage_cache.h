@@ -1,10 +1,12 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 
+#include "core/file_lock.h"
 #include "protocols/run_checkpoint.h"
 #include "protocols/session_schedule.h"
 
@@ -32,8 +34,8 @@ std::string base_stage_identity(const BaseStageInputs& inputs);
 // after session 0 (protocols/run_checkpoint.h), filed in FOLDER under a digest of its identity.
 // A run, variant, sweep cell or Slurm task whose base has the same identity continues from it
 // as `--resume` continues from a run's own checkpoint, so its numbers are those of a run that
-// trained its base itself. Runs started together each train it (there is no lock); the first to
-// finish files it, and runs started after that reuse it.
+// trained its base itself. A run in another process that needs an entry being trained (run-cells,
+// two commands on one cache) waits for it through claim() rather than training it too.
 class StageCache {
  public:
   explicit StageCache(std::filesystem::path folder) : folder_(std::move(folder)) {}
@@ -44,6 +46,14 @@ class StageCache {
   // Files `checkpoint` (whole, or not at all) unless an entry for `identity` exists.
   void store(const std::string& identity, const RunCheckpoint& checkpoint) const;
   std::filesystem::path file_of(const std::string& identity) const;
+  // The claim of the run that will train `identity`'s entry: a FileLock on claim_file_of(identity),
+  // held until the entry is filed (or the run ends). While another process holds it, waits,
+  // calling `on_wait` once; a stop request ends the wait (StopRequested). nullopt where the folder
+  // cannot hold a lock file: that run then trains unclaimed, as the cache is an economy.
+  std::optional<FileLock> claim(const std::string& identity, const std::function<void()>& on_wait) const;
+  // FOLDER-claims/<entry>.lock: beside the entries, so that FOLDER holds entries only. Lock files
+  // are never removed (removing one under a waiting process would let two claims hold at once).
+  std::filesystem::path claim_file_of(const std::string& identity) const;
 
  private:
   std::filesystem::path folder_;

@@ -1,10 +1,19 @@
 // The stage cache files a base under an identity naming everything that shaped it, gives it back
-// exactly, and drops a damaged entry instead of using it.
+// exactly, and drops a damaged entry instead of using it; a run that needs an entry another is
+// training waits for it and takes it over.
 #include "protocols/stage_cache.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <functional>
+#include <future>
+#include <sstream>
+#include <thread>
+
+#include "core/progress_reporter.h"
+#include "protocols/shared_stages.h"
 
 #include "tests/temporary_directory.h"
 
@@ -127,6 +136,62 @@ TEST(StageCache, ADamagedOrForeignEntryIsDroppedWithTheReason) {
   dropped.clear();
   EXPECT_FALSE(cache.find("base A", dropped).has_value());
   EXPECT_NE(dropped.find("holds 3 sessions"), std::string::npos) << dropped;
+}
+
+TEST(StageCache, AClaimIsWaitedForUntilItsHolderLetsGo) {
+  TemporaryDirectory folder;
+  const StageCache cache(folder.path() / "stages");
+  std::optional<FileLock> first = cache.claim("base A", nullptr);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_TRUE(cache.claim("base B", nullptr).has_value());  // another entry: no wait
+
+  std::atomic<int> waits{0};
+  auto second = std::async(std::launch::async, [&] { return cache.claim("base A", [&] { ++waits; }).has_value(); });
+  EXPECT_EQ(second.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
+  EXPECT_EQ(waits.load(), 1);
+  first.reset();
+  EXPECT_TRUE(second.get());
+  EXPECT_EQ(waits.load(), 1);  // told once, however long it waited
+}
+
+TrainedStage stage_trained_in(double seconds) {
+  return {{{"encoder.w", torch::full({2}, seconds)}}, std::mt19937_64(3), torch::arange(5, torch::kUInt8), {}, {},
+          seconds};
+}
+
+// Two SharedStages on one cache folder stand for two processes (run-cells' cells): flock()s
+// conflict between open files, in one process as between two.
+TEST(SharedStages, ARunWaitsForAStageAnotherIsTrainingAndTakesItOver) {
+  TemporaryDirectory folder;
+  SharedStages trainer{StageCache(folder.path())}, waiter{StageCache(folder.path())};
+  ASSERT_FALSE(trainer.find("pretraining", nullptr).has_value());  // found nowhere: the trainer claims it
+
+  std::ostringstream notes;
+  ProgressReporter progress(&notes);
+  auto taken = std::async(std::launch::async, [&] { return waiter.find("pretraining", &progress); });
+  EXPECT_EQ(taken.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
+  trainer.store("pretraining", stage_trained_in(12.5), "pits-sc", nullptr);
+  const std::optional<SharedStages::Found> found = taken.get();
+  ASSERT_TRUE(found.has_value());
+  EXPECT_EQ(found->source, "from the stage cache");
+  EXPECT_EQ(found->stage.seconds, 12.5);
+  EXPECT_TRUE(torch::equal(found->stage.state.at("encoder.w"), torch::full({2}, 12.5)));
+  EXPECT_NE(notes.str().find("waiting for a stage another process is training"), std::string::npos) << notes.str();
+}
+
+TEST(SharedStages, AStageGivenUpUnfiledIsTrainedByTheRunThatWaited) {
+  TemporaryDirectory folder;
+  SharedStages trainer{StageCache(folder.path())}, waiter{StageCache(folder.path())};
+  ASSERT_FALSE(trainer.find("pretraining", nullptr).has_value());
+  auto taken = std::async(std::launch::async, [&] { return waiter.find("pretraining", nullptr).has_value(); });
+  EXPECT_EQ(taken.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
+  trainer.release("pretraining");  // the trainer's run failed, or its stage did not learn
+  EXPECT_FALSE(taken.get());       // nothing filed: the waiter trains it, and now holds the claim
+  SharedStages third_run{StageCache(folder.path())};
+  auto third = std::async(std::launch::async, [&] { return third_run.find("pretraining", nullptr).has_value(); });
+  EXPECT_EQ(third.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
+  waiter.store("pretraining", stage_trained_in(3), "cop-fscil/cpi", nullptr);
+  EXPECT_TRUE(third.get());
 }
 
 }  // namespace

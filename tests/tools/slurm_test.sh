@@ -7,6 +7,8 @@
 #   slurm_test.sh FSCIL_BENCH WORK preempted   one task sent SIGTERM mid-way, --missing-only
 #                                              finishes it from its checkpoint: the same numbers
 #   slurm_test.sh FSCIL_BENCH WORK cells       run-cells --jobs 2, without Slurm: the same numbers
+#   slurm_test.sh FSCIL_BENCH WORK shared      run-cells --jobs 2 of two cells sharing a stage: it is
+#                                              trained once, and the numbers are a plain run's
 #   slurm_test.sh FSCIL_BENCH WORK stop        the cluster down
 set -euo pipefail
 bench="$1"
@@ -133,6 +135,25 @@ case "$step" in
     echo "run-cells --jobs 2 (1 thread per cell): $((SECONDS - start)) s"
     [ "$(ls "$out/cell-logs" | wc -l)" -eq 2 ] || fail "$out/cell-logs: expected one log per cell, found $(ls "$out/cell-logs")"
     same_summary "$out"
+    ;;
+  shared)
+    # pits-sc and cop-fscil/cpi are two cells that share pits-sc's pretraining; started together on
+    # one stage cache, one trains it and the other waits for it and takes it over.
+    shared=(--methods pits-sc,cop-fscil/cpi --dataset simtex-mini --profile smoke --seeds 1 --cache-dir "$work/cache")
+    out="$work/shared"
+    rm -rf "$out" "$work/shared-local" "$work/cache/stages"
+    "$bench" "${shared[@]}" --no-stage-cache --threads 1 --out "$work/shared-local" >/dev/null 2>&1
+    start=$SECONDS
+    "$bench" run-cells --jobs 2 --threads 2 "${shared[@]}" --out "$out" >/dev/null
+    echo "run-cells --jobs 2 (1 thread per cell): $((SECONDS - start)) s"
+    taken="$(grep -l "pits-sc pretraining from the stage cache" "$out"/cell-logs/*.log | wc -l)"
+    [ "$taken" -eq 1 ] || fail "expected one cell to take pits-sc's pretraining over, $taken did: $(grep -h "pretraining\|waiting" "$out"/cell-logs/*.log)"
+    grep -h "waiting for a stage\|pretraining from the stage cache" "$out"/cell-logs/*.log
+    if ! cmp -s "$work/shared-local/summary.csv" "$out/summary.csv"; then
+      diff "$work/shared-local/summary.csv" "$out/summary.csv" >&2 || true
+      fail "$out/summary.csv differs from the same command run plainly"
+    fi
+    echo "$out/summary.csv equals the plain run's, value for value"
     ;;
   *)
     fail "unknown step $step"

@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "tools/fscil-bench/cells/command_arguments.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
+#include "tools/fscil-bench/cells/time_estimate.h"
 #include "core/parallel_for.h"
 
 extern char** environ;
@@ -65,6 +66,22 @@ std::string exit_text(int status) {
   return "ended";
 }
 
+// Longest first (LPT): with J cells at a time, the last cells to start are the short ones, so the
+// lanes end together; which cell is long is this machine's estimate (cells/time_estimate.h, each
+// cell as if alone). Where there is none (a real dataset not on this machine) the plan's order stays.
+std::string order_longest_first(const RunOptions& options, const std::vector<std::string>& grid,
+                                std::vector<BenchCell>& cells) {
+  try {
+    estimate_cells(options, grid, cells, /*one_after_another=*/false);
+  } catch (const DataNotHere& error) {
+    return fmt::format("in the plan's order (no time estimate: {})", error.what());
+  }
+  std::stable_sort(cells.begin(), cells.end(), [](const BenchCell& a, const BenchCell& b) {
+    return a.estimated_seconds > b.estimated_seconds;
+  });
+  return "longest first by this machine's estimate";
+}
+
 }  // namespace
 
 int threads_per_cell(int threads, int jobs) {
@@ -74,17 +91,19 @@ int threads_per_cell(int threads, int jobs) {
 std::string run_cells(const RunOptions& options, const std::vector<std::string>& grid, int jobs,
                       const std::string& executable) {
   if (jobs < 1) throw CliError(fmt::format("--jobs {}: expected at least 1", jobs));
-  const auto cells = plan_cells(options, grid);
+  auto cells = plan_cells(options, grid);
   check_every_cell(options, grid);  // once, before any cell starts, not once per cell spawned
   jobs = std::min<int>(jobs, static_cast<int>(cells.size()));  // the threads go to cells that run
   const int threads = threads_per_cell(options.threads, jobs);
+  const std::string order = jobs > 1 ? order_longest_first(options, grid, cells) : "in the plan's order";
   const OutFolderLock folder = OutFolderLock::shared(options.out);  // no whole command on it meanwhile
   const fs::path logs = fs::path(options.out) / "cell-logs";
   fs::create_directories(logs);
   const auto say = [&](const std::string& line) {
     if (!options.quiet) std::cerr << line << '\n';
   };
-  say(fmt::format("{} cells, {} at a time, {} thread(s) each; logs in {}", cells.size(), jobs, threads, logs.string()));
+  say(fmt::format("{} cells, {} at a time, {} thread(s) each, {}; logs in {}", cells.size(), jobs, threads, order,
+                  logs.string()));
 
   struct Running {
     int cell;

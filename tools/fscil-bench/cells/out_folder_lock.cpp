@@ -1,15 +1,11 @@
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <sys/file.h>
-#include <unistd.h>
 
-#include <cerrno>
-#include <cstring>
 #include <vector>
 
 #include "core/error.h"
+#include "core/file_lock.h"
 
 namespace fscil {
 
@@ -24,20 +20,6 @@ constexpr const char* kTableNames[] = {"summary.csv", "sessions.csv", "results.t
 // user's (a checkpoint of theirs would be removed, a figure or log replaced). Not cell-logs/: Slurm
 // writes a task's log there before the task's fscil-bench starts.
 constexpr const char* kFolderNames[] = {"results", "checkpoints", "figures", "logs", "models", "embeddings", "cells"};
-
-enum class Locked { yes, busy };
-
-// flock()s `file` (created if needed); busy when another process holds a conflicting lock.
-Locked lock_file(const std::filesystem::path& file, int operation, int& descriptor) {
-  descriptor = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (descriptor < 0) {
-    throw ProtocolError(fmt::format("{}: cannot create the lock file ({})", file.string(), std::strerror(errno)));
-  }
-  if (::flock(descriptor, operation | LOCK_NB) == 0) return Locked::yes;
-  if (errno == EWOULDBLOCK) return Locked::busy;
-  if (errno == ENOLCK || errno == ENOSYS || errno == EOPNOTSUPP) return Locked::yes;  // no locks on this file system
-  throw ProtocolError(fmt::format("{}: cannot lock ({})", file.string(), std::strerror(errno)));
-}
 
 }  // namespace
 
@@ -88,13 +70,9 @@ void refuse_folder_being_written(const std::filesystem::path& folder) {
   for (fs::directory_iterator entry(folder, error), end; !error && entry != end; entry.increment(error)) {
     const std::string name = entry->path().filename().string();
     if (name != ".lock" && name.rfind(".lock-", 0) != 0) continue;
-    const int descriptor = ::open(entry->path().c_str(), O_RDONLY | O_CLOEXEC);
-    if (descriptor < 0) continue;
     // A shared lock is refused while a whole command holds .lock or a cell holds its .lock-RUN; a
     // command that only shares the folder (run-cells) is found through its cells' locks.
-    const bool busy = ::flock(descriptor, (name == ".lock" ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0 && errno == EWOULDBLOCK;
-    ::close(descriptor);
-    if (busy) {
+    if (file_is_locked(entry->path(), name == ".lock" ? FileLock::Kind::shared : FileLock::Kind::exclusive)) {
       throw ProtocolError(fmt::format("--results {}: a fscil-bench command is still writing there ({} is held); its "
                                       "tables would count the runs finished so far as all of them: wait for it",
                                       folder.string(), name));
@@ -107,12 +85,13 @@ OutFolderLock::OutFolderLock(const std::filesystem::path& folder, Hold hold) {
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) throw ProtocolError(fmt::format("--out {}: cannot create the folder ({})", folder.string(), error.message()));
-  descriptors_.push_back(-1);
-  if (lock_file(folder / ".lock", hold == Hold::whole ? LOCK_EX : LOCK_SH, descriptors_.back()) == Locked::busy) {
-    release();
+  std::optional<FileLock> lock =
+      FileLock::try_lock(folder / ".lock", hold == Hold::whole ? FileLock::Kind::exclusive : FileLock::Kind::shared);
+  if (!lock) {
     throw ProtocolError(fmt::format("--out {}: another fscil-bench command is writing there; wait for it or use "
                                     "another --out", folder.string()));
   }
+  locks_.push_back(std::move(*lock));
 }
 
 OutFolderLock::OutFolderLock(const std::filesystem::path& folder) : OutFolderLock(folder, Hold::whole) {}
@@ -122,29 +101,11 @@ OutFolderLock OutFolderLock::shared(const std::filesystem::path& folder) { retur
 OutFolderLock::OutFolderLock(const std::filesystem::path& folder, const std::vector<std::string>& runs)
     : OutFolderLock(folder, Hold::shared) {
   for (const auto& run : runs) {
-    descriptors_.push_back(-1);
-    try {
-      if (lock_file(folder / (".lock-" + run), LOCK_EX, descriptors_.back()) == Locked::busy) {
-        throw ProtocolError(fmt::format("--out {}: another fscil-bench command runs {}; wait for it", folder.string(), run));
-      }
-    } catch (...) {
-      release();
-      throw;
-    }
+    std::optional<FileLock> lock = FileLock::try_lock(folder / (".lock-" + run), FileLock::Kind::exclusive);
+    if (!lock) throw ProtocolError(fmt::format("--out {}: another fscil-bench command runs {}; wait for it", folder.string(), run));
+    locks_.push_back(std::move(*lock));
   }
 }
 
-OutFolderLock::OutFolderLock(OutFolderLock&& other) noexcept : descriptors_(std::move(other.descriptors_)) {
-  other.descriptors_.clear();
-}
-
-void OutFolderLock::release() {
-  for (int descriptor : descriptors_) {
-    if (descriptor >= 0) ::close(descriptor);
-  }
-  descriptors_.clear();
-}
-
-OutFolderLock::~OutFolderLock() { release(); }
 
 }  // namespace fscil

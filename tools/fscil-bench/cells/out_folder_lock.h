@@ -3,12 +3,13 @@
 #include <string>
 #include <vector>
 
+#include "core/file_lock.h"
+
 namespace fscil {
 
 // Holds an --out folder for one command: a second command on the same folder is refused (its
-// result files and checkpoints would interleave). The locks are flock()s on `.lock` files in the
-// folder, opened for writing so NFS's emulation takes them too; they go with the process, kill -9
-// included. On a file system without locks the folder is unguarded rather than unusable. The
+// result files and checkpoints would interleave). The locks are FileLocks on `.lock` files in the
+// folder (core/file_lock.h: they go with the process, kill -9 included). The
 // `.lock` file also marks the folder as fscil-bench's (as result files in results/ do): a folder
 // with neither that holds a table fscil-bench would replace (summary.csv, index.html, ...) is the
 // user's, and is refused.
@@ -38,17 +39,11 @@ class OutFolderLock {
   // The folder shared: single cells may run below it (run-cells, a sweep's --cell), a command
   // that wants the whole folder may not.
   static OutFolderLock shared(const std::filesystem::path& folder);
-  ~OutFolderLock();
-  OutFolderLock(const OutFolderLock&) = delete;
-  OutFolderLock& operator=(const OutFolderLock&) = delete;
-  OutFolderLock(OutFolderLock&& other) noexcept;
-  OutFolderLock& operator=(OutFolderLock&&) = delete;
 
  private:
   enum class Hold { whole, shared };
   OutFolderLock(const std::filesystem::path& folder, Hold hold);
-  void release();
-  std::vector<int> descriptors_;
+  std::vector<FileLock> locks_;
 };
 
 }  // namespace fscil

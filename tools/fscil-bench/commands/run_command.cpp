@@ -22,6 +22,7 @@
 #include "metrics/resource_usage.h"
 #include "protocols/profiles.h"
 #include "core/error.h"
+#include "core/file_lock.h"
 #include "tools/fscil-bench/options/run_option_table.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
@@ -400,6 +401,7 @@ struct RunInProgress {
   std::optional<InheritedBase> inherited_base;
   std::string base_trained_by;
   bool base_from_cache = false;
+  std::optional<FileLock> base_claim;  // StageCache::claim while it trains a base the cache lacks
   std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
   SessionCheckpoints checkpoints;
   double seconds_before = 0;
@@ -467,7 +469,16 @@ void continue_from(const CommandPlan& plan, RunInProgress& run, RunCheckpoint& s
 void take_cached_base(const CommandPlan& plan, const CommandRuns& runs, RunInProgress& run, ProgressReporter& progress) {
   const fs::path cached_file = runs.stage_cache.file_of(run.base_identity);
   std::string dropped;
-  if (std::optional<RunCheckpoint> cached = runs.stage_cache.find(run.base_identity, dropped)) {
+  std::optional<RunCheckpoint> cached = runs.stage_cache.find(run.base_identity, dropped);
+  if (!cached) {  // this run trains it, unless another process is training it now: then it waits and takes it
+    run.base_claim = runs.stage_cache.claim(run.base_identity, [&] {
+      progress.note(fmt::format("waiting for the base session another process is training ({}), to take it over",
+                                cached_file.string()));
+    });
+    cached = runs.stage_cache.find(run.base_identity, dropped);
+    if (cached) run.base_claim.reset();
+  }
+  if (cached) {
     auto& diagnostics = cached->outcomes.front().diagnostics;
     run.base_peak_bytes = static_cast<std::int64_t>(diagnostics[kCachedPeakKey]);
     diagnostics.erase(kCachedPeakKey);
@@ -524,6 +535,8 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
     save_checkpoint(run.checkpoint_file, now);
     if (so_far.size() == 1) run.stages->file_trained();
     if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
+    std::optional<FileLock> claim;  // let go once the base is filed, or found not to be filed
+    claim.swap(run.base_claim);
     if (run_verdict(judge_stages(so_far.front().training_log)) == TrainingVerdict::not_learning) {
       progress.note("base session not cached: its training did not learn");  // a later run would take it as a base
       return;
