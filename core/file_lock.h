@@ -6,8 +6,9 @@ namespace fscil {
 
 // An flock() on a file (created if needed), held until the object goes or the process ends
 // (kill -9 included). The file is opened for writing so NFS's emulation takes the lock too; on a
-// file system without locks it counts as held: unguarded rather than unusable. flock()s are per
-// open file, so two FileLocks on one file conflict within one process as between two.
+// file system without locks it counts as held: unguarded rather than unusable. On a local file
+// system flock()s are per open file, so two FileLocks on one file conflict within one process as
+// between two (the tests use that); NFS emulates them with POSIX locks, which are per process.
 class FileLock {
  public:
   enum class Kind { exclusive, shared };

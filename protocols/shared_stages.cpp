@@ -32,12 +32,9 @@ std::optional<SharedStages::Found> SharedStages::find(const std::string& identit
   }
   if (!cache_) return std::nullopt;
   if (std::optional<Found> found = from_cache(identity, progress)) return found;
-  if (claims_.count(identity) > 0) return std::nullopt;  // a run of this process trains it (and failed to file it)
-  std::optional<FileLock> claim = cache_->claim(identity, [&] {
-    if (progress != nullptr) {
-      progress->note(fmt::format("waiting for a stage another process is training (lock {}), to take it over",
-                                 cache_->claim_file_of(identity).string()));
-    }
+  if (claims_.count(identity) > 0) return std::nullopt;  // a run of this process trains it now
+  std::optional<FileLock> claim = cache_->claim(identity, [&](const std::string& line) {
+    if (progress != nullptr) progress->note(line);
   });
   if (std::optional<Found> found = from_cache(identity, progress)) return found;  // filed while we waited
   if (claim) claims_.emplace(identity, std::move(*claim));
@@ -71,7 +68,7 @@ std::optional<TrainedStage> RunStages::find(const std::string& stage) {
   const std::string identity = identity_of_(stage);
   std::optional<SharedStages::Found> found = shared_.find(identity, progress_);
   if (!found) {
-    claimed_.push_back(identity);
+    if (shared_.claimed(identity)) claimed_.push_back(identity);
     return std::nullopt;
   }
   taken_ = stage + " " + found->source;
@@ -82,31 +79,20 @@ std::optional<TrainedStage> RunStages::find(const std::string& stage) {
 }
 
 void RunStages::store(const std::string& stage, TrainedStage trained) {
-  trained_.emplace_back(stage, std::move(trained));
-}
-
-void RunStages::file_trained() {
-  // A stage that learned nothing, and every stage trained on it, is this run's result to report,
-  // never a base for later runs.
-  for (const auto& [stage, trained] : trained_) {
-    for (const StageConvergence& judged : judge_stages(trained.training_log)) {
-      if (judged.verdict != TrainingVerdict::not_learning) continue;
-      if (progress_ != nullptr) progress_->note(fmt::format("stages not shared or cached: {}", describe_stage(judged)));
-      trained_.clear();
-      release_claims();
-      return;
-    }
+  // Filed at once, so that a run waiting for it (another cell) goes on while this one trains what
+  // follows it; a stage that learned nothing is this run's result to report, never a base for others.
+  const std::string identity = identity_of_(stage);
+  for (const StageConvergence& judged : judge_stages(trained.training_log)) {
+    if (judged.verdict != TrainingVerdict::not_learning) continue;
+    if (progress_ != nullptr) progress_->note(fmt::format("stages not shared or cached: {}", describe_stage(judged)));
+    shared_.release(identity);
+    return;
   }
-  for (auto& [stage, trained] : trained_) shared_.store(identity_of_(stage), std::move(trained), method_name_, progress_);
-  trained_.clear();
-  release_claims();
+  shared_.store(identity, std::move(trained), method_name_, progress_);
 }
 
-void RunStages::release_claims() {
-  for (const std::string& identity : claimed_) shared_.release(identity);
-  claimed_.clear();
+RunStages::~RunStages() {
+  for (const std::string& identity : claimed_) shared_.release(identity);  // those it stored are released already
 }
-
-RunStages::~RunStages() { release_claims(); }
 
 }  // namespace fscil

@@ -36,6 +36,8 @@ class SharedStages {
   // Gives up the claim on `identity` without filing a stage (the run failed, or the stage did
   // not learn): a waiting process trains it itself.
   void release(const std::string& identity) { claims_.erase(identity); }
+  // Whether this process holds the claim on `identity` (find() took it).
+  bool claimed(const std::string& identity) const { return claims_.count(identity) > 0; }
 
  private:
   std::optional<Found> from_cache(const std::string& identity, ProgressReporter* progress) const;
@@ -45,21 +47,20 @@ class SharedStages {
 };
 
 // One run's StageStore: it names each stage's identity from the run's values (IdentityOf),
-// remembers which stage it took over, and from where, for the run's record, and holds the stages
-// it trained until its base session has ended well (file_trained()): a run that fails or stops
-// in its base session, or one of whose stages did not learn, shares nothing of it.
+// remembers which stage it took over, and from where, for the run's record, and files each stage
+// it trains as soon as the method stores it, unless the stage did not learn. A stage stays valid
+// whatever the run does after it (the same inputs give the same stage), so a run that fails later
+// in its base session still shares it; it gives up the claims of stages it never stored.
 class RunStages : public StageStore {
  public:
   using IdentityOf = std::function<std::string(const std::string& stage)>;
   RunStages(SharedStages& shared, IdentityOf identity_of, std::string method_name, ProgressReporter* progress)
       : shared_(shared), identity_of_(std::move(identity_of)), method_name_(std::move(method_name)), progress_(progress) {}
-  ~RunStages();  // gives up the claims of stages it did not file
+  ~RunStages();
   RunStages(const RunStages&) = delete;
   RunStages& operator=(const RunStages&) = delete;
   std::optional<TrainedStage> find(const std::string& stage) override;
   void store(const std::string& stage, TrainedStage trained) override;
-  // Shares the stages stored so far (once the base session has ended).
-  void file_trained();
   // "<stage> shared with <method>" or "<stage> from the stage cache"; empty when it trained every stage.
   const std::string& taken() const { return taken_; }
 
@@ -69,9 +70,7 @@ class RunStages : public StageStore {
   std::string method_name_;
   ProgressReporter* progress_;
   std::string taken_;
-  std::vector<std::pair<std::string, TrainedStage>> trained_;
-  std::vector<std::string> claimed_;  // identities of the stages it found nowhere
-  void release_claims();
+  std::vector<std::string> claimed_;  // identities it found nowhere and claimed, to train them
 };
 
 }  // namespace fscil

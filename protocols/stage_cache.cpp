@@ -48,7 +48,8 @@ std::filesystem::path StageCache::claim_file_of(const std::string& identity) con
   return folder / file_of(identity).filename().replace_extension(".lock");
 }
 
-std::optional<FileLock> StageCache::claim(const std::string& identity, const std::function<void()>& on_wait) const {
+std::optional<FileLock> StageCache::claim(const std::string& identity,
+                                          const std::function<void(const std::string&)>& note) const {
   const std::filesystem::path lock_file = claim_file_of(identity);
   bool waited = false;
   try {
@@ -56,12 +57,15 @@ std::optional<FileLock> StageCache::claim(const std::string& identity, const std
     std::filesystem::create_directories(lock_file.parent_path(), ignored);
     while (true) {
       if (std::optional<FileLock> lock = FileLock::try_lock(lock_file, FileLock::Kind::exclusive)) return lock;
-      if (!waited && on_wait) on_wait();
+      if (!waited) note(fmt::format("waiting for {}, which another process is training (lock {}), to take it over",
+                                    file_of(identity).filename().string(), lock_file.string()));
       waited = true;
       stop_if_requested();
       std::this_thread::sleep_for(std::chrono::milliseconds(250));
     }
-  } catch (const FileError&) {
+  } catch (const FileError& error) {
+    note(fmt::format("stage cache: cannot claim {}, so another process may train it too: {}",
+                     file_of(identity).filename().string(), error.what()));
     return std::nullopt;
   }
 }

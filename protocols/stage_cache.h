@@ -47,12 +47,13 @@ class StageCache {
   void store(const std::string& identity, const RunCheckpoint& checkpoint) const;
   std::filesystem::path file_of(const std::string& identity) const;
   // The claim of the run that will train `identity`'s entry: a FileLock on claim_file_of(identity),
-  // held until the entry is filed (or the run ends). While another process holds it, waits,
-  // calling `on_wait` once; a stop request ends the wait (StopRequested). nullopt where the folder
-  // cannot hold a lock file: that run then trains unclaimed, as the cache is an economy.
-  std::optional<FileLock> claim(const std::string& identity, const std::function<void()>& on_wait) const;
-  // FOLDER-claims/<entry>.lock: beside the entries, so that FOLDER holds entries only. Lock files
-  // are never removed (removing one under a waiting process would let two claims hold at once).
+  // held until the entry is filed (or the run ends). While another process holds it, waits (a
+  // stop request ends the wait: StopRequested) and says so once through `note`. Where no lock
+  // file can be made, `note` says why and it returns nullopt: that run trains unclaimed, as the
+  // cache is an economy, not a result.
+  std::optional<FileLock> claim(const std::string& identity, const std::function<void(const std::string&)>& note) const;
+  // FOLDER-claims/<entry>.lock, so that FOLDER holds entries only. Lock files are never removed
+  // (removing one under a waiting process would let two claims hold at once).
   std::filesystem::path claim_file_of(const std::string& identity) const;
 
  private:

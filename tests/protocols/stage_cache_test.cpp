@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <fstream>
 #include <future>
 #include <sstream>
 #include <thread>
@@ -141,17 +142,34 @@ TEST(StageCache, ADamagedOrForeignEntryIsDroppedWithTheReason) {
 TEST(StageCache, AClaimIsWaitedForUntilItsHolderLetsGo) {
   TemporaryDirectory folder;
   const StageCache cache(folder.path() / "stages");
-  std::optional<FileLock> first = cache.claim("base A", nullptr);
+  const auto no_note = [](const std::string& line) { ADD_FAILURE() << "unexpected note: " << line; };
+  std::optional<FileLock> first = cache.claim("base A", no_note);
   ASSERT_TRUE(first.has_value());
-  EXPECT_TRUE(cache.claim("base B", nullptr).has_value());  // another entry: no wait
+  EXPECT_TRUE(cache.claim("base B", no_note).has_value());  // another entry: no wait
+  EXPECT_TRUE(fs::exists(folder.path() / "stages-claims" / cache.file_of("base A").filename().replace_extension(".lock")));
 
   std::atomic<int> waits{0};
-  auto second = std::async(std::launch::async, [&] { return cache.claim("base A", [&] { ++waits; }).has_value(); });
+  auto second = std::async(std::launch::async, [&] {
+    return cache.claim("base A", [&](const std::string& line) {
+      EXPECT_NE(line.find("which another process is training"), std::string::npos) << line;
+      ++waits;
+    }).has_value();
+  });
   EXPECT_EQ(second.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
   EXPECT_EQ(waits.load(), 1);
   first.reset();
   EXPECT_TRUE(second.get());
   EXPECT_EQ(waits.load(), 1);  // told once, however long it waited
+}
+
+TEST(StageCache, AClaimThatCannotBeMadeSaysWhyAndTheRunTrainsUnclaimed) {
+  TemporaryDirectory folder;
+  std::ofstream(folder.path() / "stages-claims") << "a file where the claims' folder belongs\n";
+  const StageCache cache(folder.path() / "stages");
+  std::string said;
+  EXPECT_FALSE(cache.claim("base A", [&](const std::string& line) { said += line; }).has_value());
+  EXPECT_NE(said.find("cannot claim"), std::string::npos) << said;
+  EXPECT_NE(said.find("stages-claims"), std::string::npos) << said;
 }
 
 TrainedStage stage_trained_in(double seconds) {
@@ -163,7 +181,7 @@ TrainedStage stage_trained_in(double seconds) {
 // conflict between open files, in one process as between two.
 TEST(SharedStages, ARunWaitsForAStageAnotherIsTrainingAndTakesItOver) {
   TemporaryDirectory folder;
-  SharedStages trainer{StageCache(folder.path())}, waiter{StageCache(folder.path())};
+  SharedStages trainer{StageCache(folder.path() / "stages")}, waiter{StageCache(folder.path() / "stages")};
   ASSERT_FALSE(trainer.find("pretraining", nullptr).has_value());  // found nowhere: the trainer claims it
 
   std::ostringstream notes;
@@ -176,18 +194,18 @@ TEST(SharedStages, ARunWaitsForAStageAnotherIsTrainingAndTakesItOver) {
   EXPECT_EQ(found->source, "from the stage cache");
   EXPECT_EQ(found->stage.seconds, 12.5);
   EXPECT_TRUE(torch::equal(found->stage.state.at("encoder.w"), torch::full({2}, 12.5)));
-  EXPECT_NE(notes.str().find("waiting for a stage another process is training"), std::string::npos) << notes.str();
+  EXPECT_NE(notes.str().find("which another process is training"), std::string::npos) << notes.str();
 }
 
 TEST(SharedStages, AStageGivenUpUnfiledIsTrainedByTheRunThatWaited) {
   TemporaryDirectory folder;
-  SharedStages trainer{StageCache(folder.path())}, waiter{StageCache(folder.path())};
+  SharedStages trainer{StageCache(folder.path() / "stages")}, waiter{StageCache(folder.path() / "stages")};
   ASSERT_FALSE(trainer.find("pretraining", nullptr).has_value());
   auto taken = std::async(std::launch::async, [&] { return waiter.find("pretraining", nullptr).has_value(); });
   EXPECT_EQ(taken.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
   trainer.release("pretraining");  // the trainer's run failed, or its stage did not learn
   EXPECT_FALSE(taken.get());       // nothing filed: the waiter trains it, and now holds the claim
-  SharedStages third_run{StageCache(folder.path())};
+  SharedStages third_run{StageCache(folder.path() / "stages")};
   auto third = std::async(std::launch::async, [&] { return third_run.find("pretraining", nullptr).has_value(); });
   EXPECT_EQ(third.wait_for(std::chrono::milliseconds(600)), std::future_status::timeout);
   waiter.store("pretraining", stage_trained_in(3), "cop-fscil/cpi", nullptr);

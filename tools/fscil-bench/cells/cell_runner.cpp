@@ -67,13 +67,15 @@ std::string exit_text(int status) {
 }
 
 // Longest first (LPT): with J cells at a time, the last cells to start are the short ones, so the
-// lanes end together; which cell is long is this machine's estimate (cells/time_estimate.h, each
-// cell as if alone). Where there is none (a real dataset not on this machine) the plan's order stays.
-std::string order_longest_first(const RunOptions& options, const std::vector<std::string>& grid,
+// lanes end together. Which cell is long is this machine's estimate (cells/time_estimate.h) of each
+// cell alone at the cell's thread count; where there is none (a real dataset not on this machine,
+// a calibration that failed) the plan's order stays, as the order is an economy.
+std::string order_longest_first(RunOptions options, const std::vector<std::string>& grid, int threads,
                                 std::vector<BenchCell>& cells) {
+  options.threads = threads;
   try {
     estimate_cells(options, grid, cells, /*one_after_another=*/false);
-  } catch (const DataNotHere& error) {
+  } catch (const Error& error) {
     return fmt::format("in the plan's order (no time estimate: {})", error.what());
   }
   std::stable_sort(cells.begin(), cells.end(), [](const BenchCell& a, const BenchCell& b) {
@@ -95,8 +97,8 @@ std::string run_cells(const RunOptions& options, const std::vector<std::string>&
   check_every_cell(options, grid);  // once, before any cell starts, not once per cell spawned
   jobs = std::min<int>(jobs, static_cast<int>(cells.size()));  // the threads go to cells that run
   const int threads = threads_per_cell(options.threads, jobs);
-  const std::string order = jobs > 1 ? order_longest_first(options, grid, cells) : "in the plan's order";
   const OutFolderLock folder = OutFolderLock::shared(options.out);  // no whole command on it meanwhile
+  const std::string order = jobs > 1 ? order_longest_first(options, grid, threads, cells) : "in the plan's order";
   const fs::path logs = fs::path(options.out) / "cell-logs";
   fs::create_directories(logs);
   const auto say = [&](const std::string& line) {

@@ -471,12 +471,8 @@ void take_cached_base(const CommandPlan& plan, const CommandRuns& runs, RunInPro
   std::string dropped;
   std::optional<RunCheckpoint> cached = runs.stage_cache.find(run.base_identity, dropped);
   if (!cached) {  // this run trains it, unless another process is training it now: then it waits and takes it
-    run.base_claim = runs.stage_cache.claim(run.base_identity, [&] {
-      progress.note(fmt::format("waiting for the base session another process is training ({}), to take it over",
-                                cached_file.string()));
-    });
+    run.base_claim = runs.stage_cache.claim(run.base_identity, [&](const std::string& line) { progress.note(line); });
     cached = runs.stage_cache.find(run.base_identity, dropped);
-    if (cached) run.base_claim.reset();
   }
   if (cached) {
     auto& diagnostics = cached->outcomes.front().diagnostics;
@@ -485,6 +481,7 @@ void take_cached_base(const CommandPlan& plan, const CommandRuns& runs, RunInPro
     try {
       continue_from(plan, run, *cached);
       run.base_from_cache = true;
+      run.base_claim.reset();
       progress.note(fmt::format("base session from the stage cache ({}), trained in {:.1f} s by an earlier run",
                                 cached_file.string(), run.checkpoints.finished.front().train_seconds));
     } catch (const MethodError& error) {
@@ -533,7 +530,6 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
     RunCheckpoint now{run.identity, so_far, run.seconds_before + run.clock.seconds(), run.method->save_state(),
                       run.context.generator, torch_random_state()};
     save_checkpoint(run.checkpoint_file, now);
-    if (so_far.size() == 1) run.stages->file_trained();
     if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
     std::optional<FileLock> claim;  // let go once the base is filed, or found not to be filed
     claim.swap(run.base_claim);
