@@ -186,8 +186,10 @@ TEST(Cli, PitsScsPretrainingServesALaterCpiToTheNumbersOfACpiThatTrainedIt) {
 }
 
 // Issue 42, item 1: a loss that is not finite fails the run in one line that says where and with
-// what, keeps the runs finished before it, and leaves no base in the stage cache.
-TEST(Cli, ADivergedTrainingFailsTheRunAndKeepsNothingOfIt) {
+// what, keeps the runs finished before it, and leaves no base of it in the stage cache. A stage
+// that ended well before the divergence (pits-sc's pretraining: pit_lr acts only after it) is
+// filed as it ended, as any run with the same pretraining would file it (issue 68).
+TEST(Cli, ADivergedTrainingFailsTheRunAndCachesNothingOfWhatDiverged) {
   TemporaryDirectory cache, out, hot;
   const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --cache-dir " +
                              cache.path().string();
@@ -199,7 +201,7 @@ TEST(Cli, ADivergedTrainingFailsTheRunAndKeepsNothingOfIt) {
   // prototype finished before pits-sc began: its result and its base stay; pits-sc's do not exist.
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "pits-sc__simtex-mini__seed1.json"));
-  EXPECT_EQ(files_in(cache.path() / "stages"), 1u);
+  EXPECT_EQ(files_in(cache.path() / "stages"), 2u);  // prototype's base, pits-sc's pretraining
 
   const CommandResult too_hot = run_cli("--methods prototype" + common + " --set temperature=1e30 --out " +
                                         hot.path().string());
@@ -209,7 +211,7 @@ TEST(Cli, ADivergedTrainingFailsTheRunAndKeepsNothingOfIt) {
                                 hot.path().string()),
                         "parameter temperature='1e308': expected a number of at most 3.40282e+38 in magnitude");
   EXPECT_FALSE(std::filesystem::exists(hot.path() / "results" / "prototype__simtex-mini__seed1.json"));
-  EXPECT_EQ(files_in(cache.path() / "stages"), 1u);
+  EXPECT_EQ(files_in(cache.path() / "stages"), 2u);
 }
 
 TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {
