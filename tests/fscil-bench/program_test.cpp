@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,40 @@ TEST(Cli, ListsMethodsDatasetsAndProfiles) {
   EXPECT_EQ(result.exit_code, 0);
   for (const char* name : {"prototype", "simtex", "simtex-lmt", "simtex-mini", "lmt108", "smoke", "fast", "paper"}) {
     EXPECT_NE(result.output.find(name), std::string::npos) << name;
+  }
+}
+
+// The lines of `text` longer than `columns`.
+std::vector<std::string> lines_wider_than(const std::string& text, std::size_t columns) {
+  std::vector<std::string> wide;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.size() > columns) wide.push_back(line);
+  }
+  return wide;
+}
+
+TEST(Cli, HelpAndListingsFitAHundredColumnsWhateverColumnsSays) {
+  for (const char* command : {"--help", "--help-all", "list", "plan --help", "sweep --help", "run-cells --help",
+                              "slurm --help", "reproduce --help", "reproduce --list", "rerun --help", "report --help",
+                              "logmel --help", "check --help"}) {
+    const CommandResult result = run_cli(command, "COLUMNS=300");
+    EXPECT_EQ(result.exit_code, 0) << command << "\n" << result.output;
+    EXPECT_EQ(lines_wider_than(result.output, 100), std::vector<std::string>()) << command;
+  }
+}
+
+TEST(Cli, ASubcommandsHelpNamesTheRunOptionsItTakesAndListNamesTheReproductions) {
+  for (const char* command : {"plan --help", "sweep --help", "run-cells --help", "slurm --help", "reproduce --help",
+                              "rerun --help"}) {
+    const std::string help = run_cli(command).output;
+    for (const char* option : {"--methods", "--dataset", "--seeds", "--out", "--threads"}) {
+      EXPECT_NE(help.find(option), std::string::npos) << command << " does not name " << option << ":\n" << help;
+    }
+  }
+  const std::string listed = run_cli("list").output;
+  for (const char* reproduction : {"reproductions", "fewer-shot", "nps", "selection-bias"}) {
+    EXPECT_NE(listed.find(reproduction), std::string::npos) << reproduction;
   }
 }
 

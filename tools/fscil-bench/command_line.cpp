@@ -24,6 +24,7 @@
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
 #include "tools/fscil-bench/commands/command_table.h"
+#include "tools/fscil-bench/options/help_text.h"
 #include "tools/fscil-bench/options/config_file.h"
 #include "tools/fscil-bench/options/machine_info.h"
 #include "tools/fscil-bench/options/run_option_table.h"
@@ -158,6 +159,7 @@ int run_subcommand(int argc, char** argv) {
   close_method_registry();
   keep_freed_memory_for_reuse();
   CLI::App app{"fscil-bench: few-shot class-incremental learning benchmarks on tactile and audio signals"};
+  app.formatter(wrapping_help_formatter());  // before the subcommands, which take it over
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   app.set_version_flag("--version", version_text, "Release, commit and library versions, then exit");
   app.require_subcommand(0, 1);
@@ -177,6 +179,7 @@ int run_subcommand(int argc, char** argv) {
     CLI::App* command = app.add_subcommand(entry.name, entry.summary);
     subcommands.emplace_back(command, entry.create());
     subcommands.back().second->declare(*command);
+    if (command->get_fallthrough()) command->footer(run_options_footer(app));
   }
 
   try {

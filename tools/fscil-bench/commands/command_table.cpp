@@ -29,6 +29,7 @@
 #include "tools/fscil-bench/commands/slurm_command.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
 #include "tools/fscil-bench/options/cli_range.h"
+#include "tools/fscil-bench/options/help_text.h"
 #include "tools/fscil-bench/options/run_option_table.h"
 
 namespace fscil {
@@ -59,12 +60,17 @@ class ListCommand : public Subcommand {
  public:
   void declare(CLI::App&) override {}
   int run(Invocation&) override {
+    const auto line = [](const std::string& name, const std::string& summary) {
+      fmt::print("{}\n", wrap_words(fmt::format("  {:<22} {}", name, summary), kHelpColumns, 25));
+    };
     fmt::print("methods:\n");
-    for (const auto& entry : method_registry()) fmt::print("  {:<22} {}\n", entry.name, entry.summary);
+    for (const auto& entry : method_registry()) line(entry.name, entry.summary);
     fmt::print("datasets:\n");
-    for (const auto& entry : dataset_catalog()) fmt::print("  {:<22} {}\n", entry.name, entry.summary);
+    for (const auto& entry : dataset_catalog()) line(entry.name, entry.summary);
     fmt::print("profiles:\n");
-    for (const auto& profile : profiles()) fmt::print("  {:<22} {}\n", profile.name, profile.summary);
+    for (const auto& profile : profiles()) line(profile.name, profile.summary);
+    fmt::print("reproductions (fscil-bench reproduce NAME --dataset D):\n");
+    for (const auto& [name, caption] : reproduction_captions()) line(name, caption);
     return exit_status::success;
   }
 };

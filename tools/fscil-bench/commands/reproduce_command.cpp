@@ -17,6 +17,7 @@
 #include "reports/summary_table.h"
 #include "core/error.h"
 #include "tools/fscil-bench/options/data_folder.h"
+#include "tools/fscil-bench/options/help_text.h"
 #include "reports/embedding_figure.h"
 #include "tools/fscil-bench/commands/report_writer.h"
 #include "tools/fscil-bench/commands/sweep_command.h"
@@ -196,10 +197,18 @@ const std::vector<Reproduction>& reproductions() {
 std::string list_reproductions() {
   std::string out;
   for (const auto& reproduction : reproductions()) {
-    out += fmt::format("{:<20} {}\n{:<20} runs: {}{}\n", reproduction.name, reproduction.caption, "", reproduction.runs,
-                       reproduction.grid.empty() ? "" : fmt::format(" (--grid {})", fmt::join(reproduction.grid, " --grid ")));
+    const std::string runs = fmt::format("runs: {}{}", reproduction.runs, reproduction.grid.empty() ? "" :
+                                         fmt::format(" (--grid {})", fmt::join(reproduction.grid, " --grid ")));
+    out += wrap_words(fmt::format("{:<20} {}", reproduction.name, reproduction.caption), kHelpColumns, 21) + '\n' +
+           wrap_words(fmt::format("{:<20} {}", "", runs), kHelpColumns, 21) + '\n';
   }
   return out;
+}
+
+std::vector<std::pair<std::string, std::string>> reproduction_captions() {
+  std::vector<std::pair<std::string, std::string>> captions;
+  for (const auto& reproduction : reproductions()) captions.emplace_back(reproduction.name, reproduction.caption);
+  return captions;
 }
 
 std::string run_reproduction(const std::string& name, RunOptions options) {
