@@ -63,6 +63,7 @@ TEST(Cli, ASubcommandsHelpNamesTheRunOptionsItTakesAndListNamesTheReproductions)
     }
   }
   const std::string listed = run_cli("list").output;
+  EXPECT_NE(listed.find("\n  prototype              cosine classifier"), std::string::npos) << listed;  // aligned
   for (const char* reproduction : {"reproductions", "fewer-shot", "nps", "selection-bias"}) {
     EXPECT_NE(listed.find(reproduction), std::string::npos) << reproduction;
   }

@@ -14,6 +14,12 @@ TEST(HelpText, WrapsBetweenWordsWithinTheWidthAndIndentsWhatFollows) {
   EXPECT_EQ(wrap_words("", 10), "");
 }
 
+TEST(HelpText, ALabelledRowKeepsItsColumnOnEveryLine) {
+  const std::string row = labelled_lines("  pits-sc", std::string(60, 'a') + " " + std::string(20, 'b'), 25);
+  EXPECT_EQ(row, "  pits-sc                " + std::string(60, 'a') + "\n" + std::string(25, ' ') + std::string(20, 'b'));
+  EXPECT_EQ(labelled_lines("a-name-longer-than-the-column", "text", 10), "a-name-longer-than-the-column text");
+}
+
 TEST(HelpText, ASubcommandsFooterNamesTheMainCommandsOptionsButHelpAndVersion) {
   CLI::App app;
   app.set_version_flag("--version", "1");

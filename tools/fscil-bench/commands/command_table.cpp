@@ -61,7 +61,7 @@ class ListCommand : public Subcommand {
   void declare(CLI::App&) override {}
   int run(Invocation&) override {
     const auto line = [](const std::string& name, const std::string& summary) {
-      fmt::print("{}\n", wrap_words(fmt::format("  {:<22} {}", name, summary), kHelpColumns, 25));
+      fmt::print("{}\n", labelled_lines("  " + name, summary, 25));
     };
     fmt::print("methods:\n");
     for (const auto& entry : method_registry()) line(entry.name, entry.summary);

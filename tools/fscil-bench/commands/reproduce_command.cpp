@@ -199,8 +199,7 @@ std::string list_reproductions() {
   for (const auto& reproduction : reproductions()) {
     const std::string runs = fmt::format("runs: {}{}", reproduction.runs, reproduction.grid.empty() ? "" :
                                          fmt::format(" (--grid {})", fmt::join(reproduction.grid, " --grid ")));
-    out += wrap_words(fmt::format("{:<20} {}", reproduction.name, reproduction.caption), kHelpColumns, 21) + '\n' +
-           wrap_words(fmt::format("{:<20} {}", "", runs), kHelpColumns, 21) + '\n';
+    out += labelled_lines(reproduction.name, reproduction.caption, 21) + '\n' + labelled_lines("", runs, 21) + '\n';
   }
   return out;
 }

@@ -1,5 +1,6 @@
 #include "tools/fscil-bench/options/help_text.h"
 
+#include <algorithm>
 #include <sstream>
 #include <vector>
 
@@ -56,6 +57,17 @@ std::string wrap_words(const std::string& text, std::size_t width, std::size_t i
   std::string wrapped = lines.front();
   for (std::size_t i = 1; i < lines.size(); ++i) wrapped += '\n' + std::string(indent, ' ') + lines[i];
   return wrapped;
+}
+
+std::string labelled_lines(const std::string& label, const std::string& text, std::size_t column) {
+  std::string row = label;
+  row.resize(std::max(column, label.size() + 1), ' ');
+  const std::size_t indent = row.size();
+  for (const char c : wrap_words(text, kHelpColumns - std::min(indent, kHelpColumns - 20))) {
+    row += c;
+    if (c == '\n') row.append(indent, ' ');
+  }
+  return row;
 }
 
 std::shared_ptr<CLI::Formatter> wrapping_help_formatter() { return std::make_shared<WrappingFormatter>(); }

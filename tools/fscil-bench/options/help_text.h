@@ -15,6 +15,10 @@ inline constexpr std::size_t kHelpColumns = 100;
 // spaces, which count toward `width`.
 std::string wrap_words(const std::string& text, std::size_t width, std::size_t indent = 0);
 
+// `label` padded to `column` characters (or followed by one space where it is longer), then `text`
+// wrapped to end by kHelpColumns, its lines after the first indented to `column`: a listing's row.
+std::string labelled_lines(const std::string& label, const std::string& text, std::size_t column);
+
 // CLI11's help with every description wrapped to kHelpColumns beside its option column.
 std::shared_ptr<CLI::Formatter> wrapping_help_formatter();
 
