@@ -12,6 +12,8 @@
 #include <iostream>
 #include <memory>
 #include <regex>
+#include <string_view>
+#include <system_error>
 #include <utility>
 
 #include "core/error.h"
@@ -212,6 +214,11 @@ int run_subcommand(int argc, char** argv) {
   } catch (const std::filesystem::filesystem_error& error) {  // the path and the system's reason, not the library's text
     print_error(fmt::format("{}: {}", error.path1().empty() ? std::string("a path") : error.path1().string(),
                             error.code().message()));
+    return exit_status::bad_input;
+  } catch (const std::system_error& error) {
+    // fmt::print's own failure to write stdout (a full disk, a closed pipe), as require_output_written() says it.
+    const bool stdout_failed = std::string_view(error.what()).rfind("cannot write to file", 0) == 0;
+    print_error(stdout_failed ? fmt::format("standard output: cannot write ({})", error.code().message()) : error.what());
     return exit_status::bad_input;
   } catch (const std::exception& error) {  // a library's own error
     print_error(error.what());
