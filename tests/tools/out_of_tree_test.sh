@@ -22,7 +22,10 @@ cmake --build "$work/build" -j 2 >"$work/build.log" 2>&1 || fail "build: $(grep 
 bench="$work/build/my-bench"
 echo "built $bench against $prefix"
 
-"$bench" list | grep -q '^  small-cnn-ncm ' || fail "my-bench list does not name small-cnn-ncm"
+# Read whole, not piped to grep -q: grep leaves at its first match, and a listing written in
+# several writes then fails the next one (EPIPE), which pipefail makes this line's failure.
+listed="$("$bench" list)"
+grep -q '^  small-cnn-ncm ' <<<"$listed" || fail "my-bench list does not name small-cnn-ncm"
 "$bench" --version | grep -qx "  data       $prefix/share/fscil-bench" ||
   fail "my-bench reads its data from another folder than the package's: $("$bench" --version)"
 "$bench" --methods no-such-method --dataset simtex-mini 2>"$work/unknown.err" && fail "an unknown method ran"
