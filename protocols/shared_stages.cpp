@@ -31,22 +31,16 @@ std::optional<SharedStages::Found> SharedStages::find(const std::string& identit
     return Found{kept->second.first, "shared with " + kept->second.second};
   }
   if (!cache_) return std::nullopt;
-  if (std::optional<Found> found = from_cache(identity, progress)) return found;
-  if (claims_.count(identity) > 0) return std::nullopt;  // a run of this process trains it now
-  std::optional<FileLock> claim = cache_->claim(identity, [&](const std::string& line) {
-    if (progress != nullptr) progress->note(line);
-  });
-  if (std::optional<Found> found = from_cache(identity, progress)) return found;  // filed while we waited
-  if (claim) claims_.emplace(identity, std::move(*claim));
-  return std::nullopt;
-}
-
-std::optional<SharedStages::Found> SharedStages::from_cache(const std::string& identity, ProgressReporter* progress) const {
   std::string dropped;
-  std::optional<RunCheckpoint> cached = cache_->find(identity, dropped);
-  if (!dropped.empty() && progress != nullptr) {
-    progress->note(fmt::format("stage cache entry dropped, the stage is trained again: {}", dropped));
-  }
+  std::optional<FileLock> claim;
+  const auto note = [&](const std::string& line) {
+    if (progress != nullptr) progress->note(line);
+  };
+  std::optional<RunCheckpoint> cached = claimed(identity)  // a run of this process trains it now
+                                            ? cache_->find(identity, dropped)
+                                            : cache_->find_or_claim(identity, dropped, note, claim);
+  if (!dropped.empty()) note(fmt::format("stage cache entry dropped, the stage is trained again: {}", dropped));
+  if (claim && !cached) claims_.emplace(identity, std::move(*claim));
   if (!cached) return std::nullopt;
   return Found{stage_of(std::move(*cached)), "from the stage cache"};
 }

@@ -40,7 +40,6 @@ class SharedStages {
   bool claimed(const std::string& identity) const { return claims_.count(identity) > 0; }
 
  private:
-  std::optional<Found> from_cache(const std::string& identity, ProgressReporter* progress) const;
   std::map<std::string, std::pair<TrainedStage, std::string>> kept_;
   std::optional<StageCache> cache_;
   std::map<std::string, FileLock> claims_;  // entries this process is training

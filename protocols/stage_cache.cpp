@@ -86,6 +86,14 @@ std::optional<RunCheckpoint> StageCache::find(const std::string& identity, std::
   return std::nullopt;
 }
 
+std::optional<RunCheckpoint> StageCache::find_or_claim(const std::string& identity, std::string& dropped,
+                                                       const std::function<void(const std::string&)>& note,
+                                                       std::optional<FileLock>& claim) const {
+  if (std::optional<RunCheckpoint> found = find(identity, dropped)) return found;
+  claim = this->claim(identity, note);
+  return find(identity, dropped);
+}
+
 void StageCache::store(const std::string& identity, const RunCheckpoint& checkpoint) const {
   const std::filesystem::path file = file_of(identity);
   std::error_code ignored;

@@ -52,6 +52,11 @@ class StageCache {
   // file can be made, `note` says why and it returns nullopt: that run trains unclaimed, as the
   // cache is an economy, not a result.
   std::optional<FileLock> claim(const std::string& identity, const std::function<void(const std::string&)>& note) const;
+  // find(), and where it finds nothing, claim() into `claim` and find() again: another process
+  // may have filed the entry while this one waited for its claim.
+  std::optional<RunCheckpoint> find_or_claim(const std::string& identity, std::string& dropped,
+                                             const std::function<void(const std::string&)>& note,
+                                             std::optional<FileLock>& claim) const;
   // FOLDER-claims/<entry>.lock, so that FOLDER holds entries only. Lock files are never removed
   // (removing one under a waiting process would let two claims hold at once).
   std::filesystem::path claim_file_of(const std::string& identity) const;

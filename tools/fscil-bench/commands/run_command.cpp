@@ -469,11 +469,9 @@ void continue_from(const CommandPlan& plan, RunInProgress& run, RunCheckpoint& s
 void take_cached_base(const CommandPlan& plan, const CommandRuns& runs, RunInProgress& run, ProgressReporter& progress) {
   const fs::path cached_file = runs.stage_cache.file_of(run.base_identity);
   std::string dropped;
-  std::optional<RunCheckpoint> cached = runs.stage_cache.find(run.base_identity, dropped);
-  if (!cached) {  // this run trains it, unless another process is training it now: then it waits and takes it
-    run.base_claim = runs.stage_cache.claim(run.base_identity, [&](const std::string& line) { progress.note(line); });
-    cached = runs.stage_cache.find(run.base_identity, dropped);
-  }
+  // This run trains the base unless it is cached, or another process is training it now: then it waits and takes it.
+  std::optional<RunCheckpoint> cached = runs.stage_cache.find_or_claim(
+      run.base_identity, dropped, [&](const std::string& line) { progress.note(line); }, run.base_claim);
   if (cached) {
     auto& diagnostics = cached->outcomes.front().diagnostics;
     run.base_peak_bytes = static_cast<std::int64_t>(diagnostics[kCachedPeakKey]);
