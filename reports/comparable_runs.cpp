@@ -38,7 +38,7 @@ std::string name_of(const RunRecord& record) { return record.source.empty() ? "t
 std::string incomparability(const RunRecord& a, const RunRecord& b) {
   // Not even as rows of other datasets: a table's precision is one (summarize_runs).
   if (precision_of(a) != precision_of(b)) return fmt::format("made in {} against {}", precision_of(a), precision_of(b));
-  if (a.dataset != b.dataset || a.grid != b.grid) return "";
+  if (a.dataset != b.dataset || !same_cell(a.grid, b.grid)) return "";
   if (a.dataset_key != b.dataset_key) return fmt::format("data {} against {}", a.dataset_key, b.dataset_key);
   if (a.profile != b.profile) return fmt::format("profile {} against {}", a.profile, b.profile);
   if (a.evaluated_on != b.evaluated_on) {

@@ -14,11 +14,10 @@ constexpr double kMebibyte = 1024.0 * 1024.0;
 
 // Index of the row of (method, dataset, cell), appended when new.
 std::size_t row_index(std::vector<CostRow>& rows, const RunRecord& record) {
-  const std::string cell = grid_cell_name(record.grid);
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].method == record.method && rows[i].dataset == record.dataset && rows[i].cell == cell) return i;
+    if (rows[i].method == record.method && rows[i].dataset == record.dataset && same_cell(rows[i].grid, record.grid)) return i;
   }
-  rows.push_back(CostRow{record.method, record.dataset, cell});
+  rows.push_back(CostRow{record.method, record.dataset, record.grid});
   return rows.size() - 1;
 }
 
@@ -44,13 +43,13 @@ const std::vector<Column>& columns() {
 }
 
 bool any_cell(const std::vector<CostRow>& rows) {
-  return std::any_of(rows.begin(), rows.end(), [](const CostRow& row) { return !row.cell.empty(); });
+  return std::any_of(rows.begin(), rows.end(), [](const CostRow& row) { return !row.grid.empty(); });
 }
 
 }  // namespace
 
 std::string cost_row_label(const CostRow& row) {
-  return row.cell.empty() ? row.method : row.method + " [" + row.cell + "]";
+  return row.grid.empty() ? row.method : row.method + " [" + grid_cell_name(row.grid) + "]";
 }
 
 std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
@@ -92,7 +91,7 @@ std::string render_cost_csv(const std::vector<CostRow>& rows) {
   for (const auto& column : columns()) out += fmt::format(",{}", column.csv);
   out += "\n";
   for (const auto& row : rows) {
-    out += cells ? fmt::format("{},{},{},{}", row.method, row.dataset, row.cell, row.runs)
+    out += cells ? fmt::format("{},{},{},{}", row.method, row.dataset, grid_cell_name(row.grid), row.runs)
                  : fmt::format("{},{},{}", row.method, row.dataset, row.runs);
     for (const auto& column : columns()) out += "," + column.text(row);
     out += "\n";

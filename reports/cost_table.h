@@ -14,7 +14,7 @@ namespace fscil {
 struct CostRow {
   std::string method;
   std::string dataset;
-  std::string cell;  // the sweep cell, grid_cell_name(RunRecord::grid); "" outside a sweep
+  GridCell grid;  // the sweep cell (RunRecord::grid); empty outside a sweep
   std::size_t runs = 0;
   double mega_flops = 0;              // per sample, 2 x MACs; largest over seeds
   double parameters_millions = 0;     // all parameters; largest over seeds

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/shown_text.h"
@@ -21,6 +22,10 @@ bool is_file_stem(const std::string& name) {
 }
 
 }  // namespace
+
+std::size_t code_points(const std::string& text) {
+  return static_cast<std::size_t>(std::count_if(text.begin(), text.end(), [](char c) { return (c & 0xC0) != 0x80; }));
+}
 
 void require_valid_figure(const Figure& figure) {
   if (!is_file_stem(figure.name)) {

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,12 @@ struct Figure {
   // its own caveat, as it travels without the page or paper text around it.
   std::string note;
 };
+
+// The widest legend entry and x category label a renderer shows whole, in characters; wider ones
+// are cut. Figures built from runs keep their labels within them (series_labels.h).
+inline constexpr std::size_t figure_legend_width = 28, figure_category_width = 20;
+// Characters (UTF-8 code points) of `text`: what a label's width is counted in.
+std::size_t code_points(const std::string& text);
 
 // Throws ReportError naming the figure when it cannot be rendered: a name that is not a file stem,
 // a series whose x and y differ in length, a categorical x that is not a category's index, bars

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "metrics/statistics.h"
+#include "reports/series_labels.h"
 #include "core/error.h"
 
 namespace fscil {
@@ -17,13 +18,29 @@ namespace {
 constexpr const char* kInflated = "selected on test (inflated)";
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The method, and the sweep cell when it has one, as a legend entry (row_label names the
-// selection already).
-std::string series_label(const SummaryRow& row) {
-  std::map<std::string, std::string> rest = row.grid;
-  rest.erase("selection");
-  const std::string cell = grid_cell_name(rest);
-  return cell.empty() ? row_label(row) : fmt::format("{} [{}]", row_label(row), cell);
+// The method and its sweep cell (row_label names the selection already).
+SeriesName series_name(const SummaryRow& row) { return {row_label(row), without_key(row.grid, "selection")}; }
+
+// "method [cell]" whole: what tells series apart while a figure is built.
+std::string full_label(const SeriesName& name) { return series_labels({name}, 0).labels.front(); }
+
+void add_note(Figure& figure, const std::string& note) {
+  if (note.empty() || figure.note.find(note) != std::string::npos) return;
+  figure.note += (figure.note.empty() ? "" : "; ") + note;
+}
+
+// The legend entries (or the x categories) of `figure` by the one label rule: what the series
+// share goes under the title.
+void label_series(Figure& figure, const std::vector<SeriesName>& names) {
+  SeriesLabels labels = series_labels(names, figure_legend_width);
+  for (std::size_t s = 0; s < figure.series.size(); ++s) figure.series[s].label = labels.labels[s];
+  add_note(figure, labels.shared);
+}
+
+void label_categories(Figure& figure, const std::vector<SeriesName>& names) {
+  SeriesLabels labels = series_labels(names, figure_category_width);
+  figure.x_categories = labels.labels;
+  add_note(figure, labels.shared);
 }
 
 // Lower-case letters, digits, '_' and '-' of `text`, the rest as '_': a figure's file stem.
@@ -45,7 +62,7 @@ double metric_of(const SummaryRow& row, const std::string& metric) {
 }
 
 void note_selection(Figure& figure, const std::string& selection) {
-  if (selection == "test-oracle") figure.note = kInflated;
+  if (selection == "test-oracle") add_note(figure, kInflated);
 }
 
 // Sessions as categories: whole-number ticks.
@@ -82,13 +99,15 @@ Figure session_accuracy_figure(const SummaryTable& table, const std::string& dat
                              table.precision_note());
   figure.x_label = "session";
   figure.y_label = y_label;
+  std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
     if (row.dataset != dataset) continue;
     const auto& values = metric == SessionMetric::all        ? row.session_accuracy
                          : metric == SessionMetric::base     ? row.session_base_accuracy
                          : metric == SessionMetric::novel    ? row.session_novel_accuracy
                                                              : row.session_harmonic_mean;
-    FigureSeries series{series_label(row), {}, {}};
+    names.push_back(series_name(row));
+    FigureSeries series{full_label(names.back()), {}, {}};
     for (std::size_t s = 0; s < values.size(); ++s) {
       series.x.push_back(static_cast<double>(s));
       // Session 0 has no novel classes.
@@ -99,6 +118,7 @@ Figure session_accuracy_figure(const SummaryTable& table, const std::string& dat
     figure.series.push_back(std::move(series));
     note_selection(figure, row.selection);
   }
+  label_series(figure, names);
   return figure;
 }
 
@@ -109,16 +129,17 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
   figure.x_label = "session";
   figure.y_label = "R (mean over classes and seeds)";
   // (label) -> per session the values of its seeds
-  std::vector<std::pair<std::string, std::vector<std::vector<double>>>> lines;
+  std::vector<std::pair<SeriesName, std::vector<std::vector<double>>>> lines;
   for (const auto& record : records) {
     if (record.dataset != dataset) continue;
     SummaryRow row;
     row.method = record.method;
     row.grid = record.grid;
     row.selection = record.selection;
-    const std::string label = series_label(row);
-    auto line = std::find_if(lines.begin(), lines.end(), [&](const auto& entry) { return entry.first == label; });
-    if (line == lines.end()) line = lines.insert(lines.end(), {label, {}});
+    const SeriesName name = series_name(row);
+    auto line = std::find_if(lines.begin(), lines.end(),
+                             [&](const auto& entry) { return full_label(entry.first) == full_label(name); });
+    if (line == lines.end()) line = lines.insert(lines.end(), {name, {}});
     for (const auto& session : record.sessions) {
       if (std::isnan(session.context_ratio_mean)) continue;
       if (line->second.size() <= static_cast<std::size_t>(session.session)) line->second.resize(session.session + 1);
@@ -126,9 +147,11 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
     }
     note_selection(figure, record.selection);
   }
-  for (const auto& [label, sessions] : lines) {
+  std::vector<SeriesName> names;
+  for (const auto& [name, sessions] : lines) {
     if (sessions.empty()) continue;
-    FigureSeries series{label, {}, {}};
+    names.push_back(name);
+    FigureSeries series{full_label(name), {}, {}};
     for (std::size_t s = 0; s < sessions.size(); ++s) {
       series.x.push_back(static_cast<double>(s));
       series.y.push_back(sessions[s].empty() ? kNaN : mean_of(sessions[s]));
@@ -136,6 +159,7 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
     figure.x_categories = session_categories(std::max(figure.x_categories.size(), sessions.size()));
     figure.series.push_back(std::move(series));
   }
+  label_series(figure, names);
   return figure;
 }
 
@@ -158,13 +182,15 @@ std::vector<Figure> efficiency_figures(const std::vector<CostRow>& costs, const 
     figure.x_label = "method";
     figure.y_label = panel.y_label;
     FigureSeries series{"", {}, {}};
+    std::vector<SeriesName> names;
     for (const auto& row : costs) {
       if (row.dataset != dataset) continue;
-      series.x.push_back(static_cast<double>(figure.x_categories.size()));
+      series.x.push_back(static_cast<double>(names.size()));
       series.y.push_back(panel.value(row));
-      figure.x_categories.push_back(cost_row_label(row));
+      names.push_back({row.method, row.grid});
     }
     figure.series.push_back(std::move(series));
+    label_categories(figure, names);
     figures.push_back(std::move(figure));
   }
   return figures;
@@ -178,10 +204,11 @@ Figure ablation_figure(const SummaryTable& table, const std::string& dataset, co
   figure.x_label = "variant";
   figure.y_label = "%";
   FigureSeries aa{"AA", {}, {}}, pd{"PD", {}, {}};
+  std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
     if (row.dataset != dataset) continue;
-    const double x = static_cast<double>(figure.x_categories.size());
-    figure.x_categories.push_back(series_label(row));
+    const double x = static_cast<double>(names.size());
+    names.push_back(series_name(row));
     aa.x.push_back(x);
     aa.y.push_back(row.average_accuracy.mean);
     pd.x.push_back(x);
@@ -189,6 +216,7 @@ Figure ablation_figure(const SummaryTable& table, const std::string& dataset, co
     note_selection(figure, row.selection);
   }
   figure.series = {aa, pd};
+  label_categories(figure, names);
   return figure;
 }
 
@@ -201,23 +229,28 @@ Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset,
   figure.x_label = key;
   figure.y_label = metric == "Acc0" ? "session 0 accuracy (%)" : metric + (metric == "ADR" ? "" : " (%)");
   figure.x_categories = values;
+  std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
-    const auto value = row.grid.find(key);
-    if (row.dataset != dataset || value == row.grid.end()) continue;
-    const auto position = std::find(values.begin(), values.end(), value->second);
+    const std::string* value = grid_value(row.grid, key);
+    if (row.dataset != dataset || value == nullptr) continue;
+    const auto position = std::find(values.begin(), values.end(), *value);
     if (position == values.end()) continue;
     // One line per method and value of the other keys.
     SummaryRow line_key = row;
-    line_key.grid.erase(key);
-    const std::string label = series_label(line_key);
+    line_key.grid = without_key(row.grid, key);
+    const SeriesName name = series_name(line_key);
     auto series = std::find_if(figure.series.begin(), figure.series.end(),
-                               [&](const FigureSeries& s) { return s.label == label; });
-    if (series == figure.series.end()) series = figure.series.insert(figure.series.end(), {label, {}, {}});
+                               [&](const FigureSeries& s) { return s.label == full_label(name); });
+    if (series == figure.series.end()) {
+      series = figure.series.insert(figure.series.end(), {full_label(name), {}, {}});
+      names.push_back(name);
+    }
     series->x.push_back(static_cast<double>(position - values.begin()));
     series->y.push_back(metric_of(row, metric));
     note_selection(figure, row.selection);
   }
   sort_points(figure);
+  label_series(figure, names);
   return figure;
 }
 
@@ -230,18 +263,25 @@ Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::str
   figure.x_label = key;
   figure.y_label = "time per incremental session (s)";
   figure.x_categories = values;
+  std::vector<SeriesName> names;
   for (const auto& row : costs) {
-    if (row.dataset != dataset) continue;
-    for (std::size_t v = 0; v < values.size(); ++v) {
-      if (row.cell != key + "=" + values[v]) continue;
-      auto series = std::find_if(figure.series.begin(), figure.series.end(),
-                                 [&](const FigureSeries& s) { return s.label == row.method; });
-      if (series == figure.series.end()) series = figure.series.insert(figure.series.end(), {row.method, {}, {}});
-      series->x.push_back(static_cast<double>(v));
-      series->y.push_back(row.update_seconds);
+    const std::string* value = grid_value(row.grid, key);
+    if (row.dataset != dataset || value == nullptr) continue;
+    const auto position = std::find(values.begin(), values.end(), *value);
+    if (position == values.end()) continue;
+    // One line per method and value of the other keys.
+    const SeriesName name{row.method, without_key(row.grid, key)};
+    auto series = std::find_if(figure.series.begin(), figure.series.end(),
+                               [&](const FigureSeries& s) { return s.label == full_label(name); });
+    if (series == figure.series.end()) {
+      series = figure.series.insert(figure.series.end(), {full_label(name), {}, {}});
+      names.push_back(name);
     }
+    series->x.push_back(static_cast<double>(position - values.begin()));
+    series->y.push_back(row.update_seconds);
   }
   sort_points(figure);
+  label_series(figure, names);
   return figure;
 }
 

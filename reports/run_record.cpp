@@ -59,14 +59,52 @@ bool is_grid_text(const std::string& text) {
   return !text.empty() && text.find_first_not_of(kGridCharacters) == std::string::npos;
 }
 
-std::string grid_cell_name(const std::map<std::string, std::string>& grid) {
+const std::string* grid_value(const GridCell& cell, const std::string& key) {
+  for (const auto& [name, value] : cell) {
+    if (name == key) return &value;
+  }
+  return nullptr;
+}
+
+GridCell without_key(GridCell cell, const std::string& key) {
+  cell.erase(std::remove_if(cell.begin(), cell.end(), [&](const auto& entry) { return entry.first == key; }), cell.end());
+  return cell;
+}
+
+bool same_cell(const GridCell& a, const GridCell& b) {
+  return std::map<std::string, std::string>(a.begin(), a.end()) == std::map<std::string, std::string>(b.begin(), b.end());
+}
+
+GridCell in_key_order(const GridCell& cell, const std::vector<std::string>& keys) {
+  GridCell ordered;
+  for (const std::string& key : keys) {
+    if (const std::string* value = grid_value(cell, key)) ordered.emplace_back(key, *value);
+  }
+  for (const auto& entry : cell) {
+    if (std::find(keys.begin(), keys.end(), entry.first) == keys.end()) ordered.push_back(entry);
+  }
+  return ordered;
+}
+
+std::string grid_cell_name(const GridCell& grid) {
   std::string name;
   for (const auto& [key, value] : grid) name += (name.empty() ? "" : "+") + key + "=" + value;
   return name;
 }
 
+namespace {
+
+// A JSON object keeps no order: the cell's key order goes beside it.
+std::vector<std::string> grid_keys_of(const GridCell& cell) {
+  std::vector<std::string> keys;
+  for (const auto& entry : cell) keys.push_back(entry.first);
+  return keys;
+}
+
+}  // namespace
+
 std::string to_json_text(const RunRecord& record) {
-  const json document = {{"schema", kSchemaVersion},
+  json document = {{"schema", kSchemaVersion},
                          {"method", record.method},
                          {"dataset", record.dataset},
                          {"profile", record.profile},
@@ -74,7 +112,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"threads", record.threads},
                          {"evaluated_on", record.evaluated_on},
                          {"selection", record.selection},
-                         {"grid", record.grid},
+                         {"grid", std::map<std::string, std::string>(record.grid.begin(), record.grid.end())},
                          {"parameters", record.parameters},
                          {"protocol_parameters", record.protocol_parameters},
                          {"machine", record.machine},
@@ -92,6 +130,7 @@ std::string to_json_text(const RunRecord& record) {
                            {"trainable_parameters", record.inference.trainable_parameters},
                            {"seconds_per_sample", record.inference.seconds_per_sample},
                            {"batch", record.inference.batch}}}};
+  if (!record.grid.empty()) document["grid_keys"] = grid_keys_of(record.grid);
   return document.dump(2) + "\n";
 }
 
@@ -162,7 +201,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
   const Fields top(document, origin);
   // Every field to_json_text writes; a file with more was not written by fscil-bench.
   top.require_known_keys({"schema", "method", "dataset", "profile", "seed", "threads", "evaluated_on", "selection",
-                          "grid", "parameters", "protocol_parameters", "machine", "version", "git_commit",
+                          "grid", "grid_keys", "parameters", "protocol_parameters", "machine", "version", "git_commit",
                           "dataset_key", "sessions", "total_seconds", "peak_resident_bytes", "replay", "inference"});
   if (top.whole<int>("schema") != kSchemaVersion) top.fail("schema", fmt::format("{}", kSchemaVersion));
   try {
@@ -187,7 +226,10 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     if (!is_selection_name(record.selection)) {
       top.fail("selection", fmt::format("last, validation or test-oracle, found '{}'", shown_text(record.selection)));
     }
-    if (top.has("grid")) record.grid = top.texts("grid");
+    if (top.has("grid")) {
+      const std::map<std::string, std::string> assignments = top.texts("grid");
+      record.grid.assign(assignments.begin(), assignments.end());
+    }
     for (const auto& [key, value] : record.grid) {
       // Cell values become CSV fields and folder names as they are.
       for (const std::string& text : {key, value}) {
@@ -196,6 +238,16 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
                    fmt::format("letters, digits, '_', '.' or '-', found {}={}", shown_text(key), shown_text(value)));
         }
       }
+    }
+    if (top.has("grid_keys")) {  // files written before it are in alphabetical order
+      std::vector<std::string> keys = top.names("grid_keys");
+      std::vector<std::string> sorted = keys;
+      std::sort(sorted.begin(), sorted.end());
+      if (sorted != grid_keys_of(record.grid)) {
+        top.fail("grid_keys", fmt::format("the keys of grid ({}), found {}", fmt::join(grid_keys_of(record.grid), ", "),
+                                          shown_text(fmt::format("{}", fmt::join(keys, ", ")))));
+      }
+      record.grid = in_key_order(record.grid, keys);
     }
     record.parameters = top.texts("parameters");
     if (top.has("protocol_parameters")) record.protocol_parameters = top.texts("protocol_parameters");
@@ -260,6 +312,15 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
     records.back().source = file.string();
   }
   if (records.empty()) throw ReportError(fmt::format("{}: holds no result files (*.json)", directory.string()));
+  // One key order for every cell, so that a cell is one row (files written before the order was
+  // kept are alphabetical).
+  std::vector<std::string> keys;
+  for (const auto& record : records) {
+    for (const auto& entry : record.grid) {
+      if (std::find(keys.begin(), keys.end(), entry.first) == keys.end()) keys.push_back(entry.first);
+    }
+  }
+  for (auto& record : records) record.grid = in_key_order(record.grid, keys);
   require_comparable_runs(records);
   return records;
 }

@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "metrics/session_accuracy.h"
@@ -23,6 +24,18 @@ struct InferenceRecord {
 
 // Everything one (method, dataset, seed) run produced: the schema of result files, from
 // which every report can be rebuilt.
+// A sweep cell: key=value in the order the command's --grid gave its keys (the first varies
+// slowest); tables, labels and cell folders follow that order.
+using GridCell = std::vector<std::pair<std::string, std::string>>;
+// The value `cell` gives `key`, or nullptr.
+const std::string* grid_value(const GridCell& cell, const std::string& key);
+// `cell` without `key`.
+GridCell without_key(GridCell cell, const std::string& key);
+// Whether two cells assign the same values, whatever the order of their keys.
+bool same_cell(const GridCell& a, const GridCell& b);
+// `cell` with its keys in the order of `keys` (keys it lacks skipped), any others after, as they were.
+GridCell in_key_order(const GridCell& cell, const std::vector<std::string>& keys);
+
 struct RunRecord {
   std::string method;
   std::string dataset;
@@ -35,9 +48,9 @@ struct RunRecord {
   // How training epochs were chosen where a reference code chooses them (RunOptions::selection):
   // "last", "validation", or "test-oracle" (by test score, the reference codes' habit: inflated).
   std::string selection = "last";
-  // The sweep cell this run belongs to (fscil-bench sweep --grid key=values): key -> value. Runs
-  // of different cells are different rows of every table. Empty outside a sweep.
-  std::map<std::string, std::string> grid;
+  // The sweep cell this run belongs to (fscil-bench sweep --grid key=values). Runs of different
+  // cells are different rows of every table. Empty outside a sweep.
+  GridCell grid;
   std::map<std::string, std::string> parameters;  // every hyper-parameter and knob used
   // The subset of `parameters` the dataset and the session protocol read (way, shot, context
   // strength, ...): runs of different methods compare only when these agree. Empty in files
@@ -71,13 +84,14 @@ bool is_selection_name(const std::string& name);
 bool selected_on_test(const RunRecord& record);
 // A sweep key or value: letters, digits, '_', '.' and '-' only (it names folders and fills CSV fields).
 bool is_grid_text(const std::string& text);
-// "key=value+key=value" of a sweep cell (folder name of the cell; "" outside a sweep).
-std::string grid_cell_name(const std::map<std::string, std::string>& grid);
+// "key=value+key=value" of a sweep cell in its key order (folder name of the cell; "" outside a sweep).
+std::string grid_cell_name(const GridCell& grid);
 std::string to_json_text(const RunRecord& record);
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
 
 void save_run_record(const std::filesystem::path& directory, const RunRecord& record);
-// Every *.json result file below `directory`, sorted by path. Throws ReportError on a bad file
+// Every *.json result file below `directory`, sorted by path, the keys of their sweep cells in one
+// order (the first file's, then keys it lacks as they come). Throws ReportError on a bad file
 // and on runs that cannot be compared (see require_comparable_runs).
 std::vector<RunRecord> load_run_records(const std::filesystem::path& directory);
 

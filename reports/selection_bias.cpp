@@ -28,9 +28,7 @@ std::string label_of(const SelectionBiasRow& row) { return row.cell.empty() ? ro
 std::vector<SelectionBiasRow> measure_selection_bias(const SummaryTable& table) {
   std::vector<SelectionBiasRow> rows;
   for (const auto& summary : table.rows) {
-    std::map<std::string, std::string> rest = summary.grid;
-    rest.erase("selection");
-    const std::string cell = grid_cell_name(rest);
+    const std::string cell = grid_cell_name(without_key(summary.grid, "selection"));
     auto row = std::find_if(rows.begin(), rows.end(), [&](const SelectionBiasRow& r) {
       return r.method == summary.method && r.dataset == summary.dataset && r.cell == cell;
     });

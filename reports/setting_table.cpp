@@ -98,7 +98,7 @@ SettingTable make_setting_table(const std::string& name, const std::string& capt
     line.selected_on_test = row.selection == "test-oracle";
     line.update_seconds = std::numeric_limits<double>::quiet_NaN();
     for (const auto& cost : costs) {
-      if (cost.method == method && cost.dataset == dataset && cost.cell == line.setting) {
+      if (cost.method == method && cost.dataset == dataset && same_cell(cost.grid, row.grid)) {
         line.update_seconds = cost.update_seconds;
       }
     }

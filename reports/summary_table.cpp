@@ -23,7 +23,7 @@ std::vector<StageConvergence> base_stages(const RunRecord& record) {
 }
 
 // "label [cell]" in a sweep, "label" outside one.
-std::string with_cell(std::string label, const std::map<std::string, std::string>& grid) {
+std::string with_cell(std::string label, const GridCell& grid) {
   if (const std::string cell = grid_cell_name(grid); !cell.empty()) label += " [" + cell + "]";
   return label;
 }
@@ -102,7 +102,7 @@ std::string unfinished_warning(const std::vector<RunRecord>& records) {
 }
 
 SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
-  using Key = std::tuple<std::string, std::string, std::map<std::string, std::string>, std::string>;
+  using Key = std::tuple<std::string, std::string, GridCell, std::string>;
   const auto key_of = [](const RunRecord& record) {
     return Key(record.method, record.dataset, record.grid, record.selection);
   };

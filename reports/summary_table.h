@@ -22,8 +22,8 @@ struct SeedStatistic {
 struct SummaryRow {
   std::string method;
   std::string dataset;
-  std::map<std::string, std::string> grid;  // the sweep cell (RunRecord::grid)
-  std::string selection = "last";           // RunRecord::selection
+  GridCell grid;                    // the sweep cell (RunRecord::grid)
+  std::string selection = "last";  // RunRecord::selection
   std::vector<std::uint64_t> seeds;
   std::vector<SeedStatistic> session_accuracy;
   // Per session, on the base classes' samples, on the novel classes' samples and their harmonic
@@ -72,7 +72,8 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records);
 // Renderers of the same table: CSV for scripts, LaTeX in the paper's layout (best in bold),
 // Markdown for the terminal.
 std::string render_csv(const SummaryTable& table);
-std::string render_latex(const SummaryTable& table);
+// One table per dataset, its caption led by `what` ("Comparison on simtex, test split ...").
+std::string render_latex(const SummaryTable& table, const std::string& what = "Comparison");
 std::string render_markdown(const SummaryTable& table);
 
 }  // namespace fscil

@@ -19,15 +19,10 @@ constexpr double page_width = 640, min_page_height = 400;
 // Average advance of an 11-pixel sans-serif character: sizes margins and legend without font metrics.
 constexpr double char_width = 6.6;
 constexpr double legend_row = 18;
-constexpr std::size_t longest_legend_label = 28, longest_category_label = 20;
 
 const std::array<const char*, figure_dash_kinds> svg_dashes = {"", "7,3", "1.5,2.5", "9,3,2,3", "4,2"};
 
 std::string px(double value) { return fmt::format("{:.2f}", value); }
-
-std::size_t code_points(const std::string& text) {
-  return static_cast<std::size_t>(std::count_if(text.begin(), text.end(), [](char c) { return (c & 0xC0) != 0x80; }));
-}
 
 // At most `limit` characters, the cut marked with an ellipsis; never splits a UTF-8 sequence.
 std::string shortened(const std::string& text, std::size_t limit) {
@@ -170,16 +165,16 @@ class SvgFigure {
 
     std::size_t widest_legend = 0;
     for (const std::size_t s : legend_) {
-      widest_legend = std::max(widest_legend, code_points(shortened(figure_.series[s].label, longest_legend_label)));
+      widest_legend = std::max(widest_legend, code_points(shortened(figure_.series[s].label, figure_legend_width)));
     }
     const double right_margin = legend_.empty() ? 20 : 56 + char_width * static_cast<double>(widest_legend);
     std::size_t widest_category = 0;
     for (const auto& category : figure_.x_categories) {
-      widest_category = std::max(widest_category, code_points(shortened(category, longest_category_label)));
+      widest_category = std::max(widest_category, code_points(shortened(category, figure_category_width)));
     }
     const double category_width = char_width * static_cast<double>(widest_category);
     const double first_category_width =
-        categorical() ? char_width * static_cast<double>(code_points(shortened(figure_.x_categories[0], longest_category_label))) : 0;
+        categorical() ? char_width * static_cast<double>(code_points(shortened(figure_.x_categories[0], figure_category_width))) : 0;
     frame_.top = figure_.note.empty() ? 38 : 54;
     if (figure_.title.empty() && figure_.note.empty()) frame_.top = 16;
     frame_.width = page_width - 52 - right_margin;
@@ -291,7 +286,7 @@ class SvgFigure {
     };
     if (categorical()) {
       for (std::size_t c = 0; c < figure_.x_categories.size(); ++c) {
-        tick(x_(static_cast<double>(c)), shortened(figure_.x_categories[c], longest_category_label));
+        tick(x_(static_cast<double>(c)), shortened(figure_.x_categories[c], figure_category_width));
       }
     } else {
       for (const double value : x_ticks_.values) tick(x_(value), tick_label(value, x_ticks_.decimals));
@@ -387,7 +382,7 @@ class SvgFigure {
         out += marker(style.marker, left + 12, y, style.colour);
       }
       out += fmt::format("<text x=\"{}\" y=\"{}\">{}</text>\n", px(left + 30), px(y + 4),
-                         xml_text(shortened(figure_.series[index].label, longest_legend_label)));
+                         xml_text(shortened(figure_.series[index].label, figure_legend_width)));
     }
     return out + "</g>\n";
   }

@@ -81,9 +81,9 @@ constexpr const char* kUnfinishedNote =
     "the best before them; docs/methods.md, \"Did the training finish?\"): not measured at its plateau; or "
     "its loss never moved: not learning";
 
-std::string grid_value(const SummaryRow& row, const std::string& key) {
-  const auto found = row.grid.find(key);
-  return found == row.grid.end() ? std::string() : found->second;
+std::string cell_value(const SummaryRow& row, const std::string& key) {
+  const std::string* value = grid_value(row.grid, key);
+  return value == nullptr ? std::string() : *value;
 }
 
 }  // namespace
@@ -107,7 +107,7 @@ std::string render_csv(const SummaryTable& table) {
   out += ",training\n";
   for (const auto* row : all) {
     out += fmt::format("{},{}", row->method, row->dataset);
-    for (const auto& key : grid_keys) out += "," + grid_value(*row, key);
+    for (const auto& key : grid_keys) out += "," + cell_value(*row, key);
     out += fmt::format(",{},{},{},{},{:.4f},{:.4f},{:.4f}", table.evaluated_on, row->selection, table.precision,
                        fmt::join(row->seeds, " "),
                        row->average_accuracy.mean, row->performance_drop.mean, row->average_drop_rate.mean);
@@ -131,7 +131,7 @@ std::string render_csv(const SummaryTable& table) {
   return out;
 }
 
-std::string render_latex(const SummaryTable& table) {
+std::string render_latex(const SummaryTable& table, const std::string& what) {
   const bool with_std = table.several_seeds();
   std::string out = "% fscil-bench results; requires \\usepackage{booktabs,multirow}\n";
   for (const auto& dataset : table.datasets()) {
@@ -139,7 +139,7 @@ std::string render_latex(const SummaryTable& table) {
     const auto columns = paper_columns(max_sessions(rows));
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
-    out += fmt::format("\\caption{{Comparison on {}, {} split{}{}.}}\n", latex_text(dataset), table.evaluated_on,
+    out += fmt::format("\\caption{{{} on {}, {} split{}{}.}}\n", latex_text(what), latex_text(dataset), table.evaluated_on,
                        table.precision_note(),
                        with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
     const auto grid_keys = table.grid_keys();
@@ -156,7 +156,7 @@ std::string render_latex(const SummaryTable& table) {
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(" & {}", s);
     out += " & & & \\\\\n\\midrule\n";
     for (const auto* row : rows) {
-      for (const auto& key : grid_keys) out += latex_text(grid_value(*row, key)) + " & ";
+      for (const auto& key : grid_keys) out += latex_text(cell_value(*row, key)) + " & ";
       out += latex_text(row_label(*row)) + marked_label_suffix(*row, "$^\\dagger$");
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
@@ -192,7 +192,7 @@ std::string render_markdown(const SummaryTable& table) {
     out += "\n";
     for (const auto* row : rows) {
       out += "|";
-      for (const auto& key : grid_keys) out += fmt::format(" {} |", grid_value(*row, key));
+      for (const auto& key : grid_keys) out += fmt::format(" {} |", cell_value(*row, key));
       out += fmt::format(" {}{} |", row_label(*row), marked_label_suffix(*row, " †"));
       for (const auto& column : columns) {
         const std::string text = cell(column.value(*row), with_std, " ± ");

@@ -49,8 +49,8 @@ std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
     for (const auto& session : record.sessions) {
       out += fmt::format("{},{}", record.method, record.dataset);
       for (const auto& key : grid_keys) {
-        const auto found = record.grid.find(key);
-        out += "," + (found == record.grid.end() ? std::string() : found->second);
+        const std::string* value = grid_value(record.grid, key);
+        out += "," + (value == nullptr ? std::string() : *value);
       }
       out += fmt::format(",{},{},{},{}", record.evaluated_on, record.selection, precision_of(record), record.seed);
       for (const auto& field : session_fields()) {

@@ -65,6 +65,32 @@ TEST(Cli, SweepRunsEveryCellApartAndTablesThemWithAColumnPerKey) {
                         "--selection best");
 }
 
+// Issue 70: the grid's order is the order of every table, folder and legend, and a legend that
+// must be shortened says what it left out instead of cutting labels into look-alikes.
+TEST(Cli, ASweepKeepsTheGridsOrderInItsColumnsFoldersAndLegends) {
+  TemporaryDirectory out;
+  const CommandResult sweep = run_cli("sweep --grid shot=5,3 --grid context_strength=1 --methods prototype --dataset "
+                                      "simtex-mini --profile smoke --threads 1 --quiet --no-cache --out " +
+                                      out.path().string());
+  ASSERT_EQ(sweep.exit_code, 0) << sweep.output;
+  EXPECT_NE(sweep.output.find("| shot | context_strength | method |"), std::string::npos) << sweep.output;
+  const auto summary = lines_of(out.path() / "summary.csv");
+  ASSERT_EQ(summary.size(), 3u);
+  EXPECT_EQ(summary[0].rfind("method,dataset,shot,context_strength,split,", 0), 0u) << summary[0];
+  EXPECT_EQ(summary[1].rfind("prototype,simtex-mini,5,1,", 0), 0u) << "the values in the order given";
+  EXPECT_EQ(summary[2].rfind("prototype,simtex-mini,3,1,", 0), 0u);
+  EXPECT_TRUE(std::filesystem::is_directory(out.path() / "cells" / "shot=5+context_strength=1"));
+  EXPECT_NE(lines_of(out.path() / "costs.csv").at(1).find("prototype,simtex-mini,shot=5+context_strength=1,"),
+            std::string::npos);
+  std::ifstream figure_file(out.path() / "figures" / "sessions_simtex-mini_all.svg");
+  const std::string figure((std::istreambuf_iterator<char>(figure_file)), std::istreambuf_iterator<char>());
+  // "prototype [shot=5+context_strength=1]" is wider than a legend entry: what both share goes under the title.
+  EXPECT_NE(figure.find(">shot=5</text>"), std::string::npos) << figure;
+  EXPECT_NE(figure.find(">shot=3</text>"), std::string::npos);
+  EXPECT_NE(figure.find("prototype; context_strength=1"), std::string::npos);
+  EXPECT_EQ(figure.find("\xE2\x80\xA6"), std::string::npos) << "no label cut with an ellipsis";
+}
+
 TEST(Cli, EpochsChosenOnTestAreLabelledInflatedAndNeverShareAnOutWithHonestRuns) {
   TemporaryDirectory out;
   const std::string common = " --methods pits-sc --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache "

@@ -68,14 +68,14 @@ TEST(CostTable, SweepCellsAreRowsOfTheirOwnNamedInEveryRendering) {
                                           in_cell(timed_run("orco", 120, 4, 950, 400), "5")};
   const auto rows = summarize_costs(records);
   ASSERT_EQ(rows.size(), 3u);
-  EXPECT_EQ(rows[0].cell, "pspc_probes=5");
+  EXPECT_EQ(grid_cell_name(rows[0].grid), "pspc_probes=5");
   EXPECT_EQ(rows[0].runs, 2u);
   EXPECT_DOUBLE_EQ(rows[0].update_seconds, 3);  // (2 + 2 + 4 + 4) / 4 sessions; the 6 s of the other cell stay out
   EXPECT_DOUBLE_EQ(rows[0].peak_resident_mib, 950);
-  EXPECT_EQ(rows[1].cell, "pspc_probes=10");
+  EXPECT_EQ(grid_cell_name(rows[1].grid), "pspc_probes=10");
   EXPECT_EQ(rows[1].runs, 1u);
   EXPECT_DOUBLE_EQ(rows[1].update_seconds, 6);
-  EXPECT_EQ(rows[2].cell, "");
+  EXPECT_TRUE(rows[2].grid.empty());
   EXPECT_EQ(render_cost_csv(rows),
             "method,dataset,cell,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,peak_rss_mib,"
             "replay_samples,replay_mib\n"

@@ -174,26 +174,28 @@ TEST(RunFigures, LegendsOfASelectionSweepNameTheSelectionOnce) {
   EXPECT_EQ(figure.series[1].label, "orco (selected on test (inflated))");
 }
 
-TEST(RunFigures, UpdateTimeFigureTakesEachCellsCostRow) {
-  const auto cost = [](const std::string& method, const std::string& dataset, const std::string& cell, double seconds) {
+TEST(RunFigures, UpdateTimeFigureTakesEachCellsCostRowOneLinePerMethodAndOtherKeys) {
+  const auto cost = [](const std::string& method, const std::string& dataset, const GridCell& cell, double seconds) {
     CostRow row{method, dataset, cell};
     row.update_seconds = seconds;
     return row;
   };
-  const std::vector<CostRow> costs = {cost("cop-fscil", "simtex", "pspc_probes=50", 0.41),
-                                      cost("cop-fscil", "simtex", "pspc_probes=5", 0.10),
-                                      cost("orco", "simtex", "pspc_probes=5", 0.3),
-                                      cost("cop-fscil", "simtex", "pspc_probes=5+shot=1", 9),
-                                      cost("cop-fscil", "simtex-lmt", "pspc_probes=10", 9),
-                                      cost("prototype", "simtex", "", 9)};
+  const std::vector<CostRow> costs = {cost("cop-fscil", "simtex", {{"pspc_probes", "50"}}, 0.41),
+                                      cost("cop-fscil", "simtex", {{"pspc_probes", "5"}}, 0.10),
+                                      cost("orco", "simtex", {{"pspc_probes", "5"}}, 0.3),
+                                      cost("cop-fscil", "simtex", {{"pspc_probes", "5"}, {"shot", "1"}}, 9),
+                                      cost("cop-fscil", "simtex-lmt", {{"pspc_probes", "10"}}, 9),
+                                      cost("prototype", "simtex", {}, 9)};
   const Figure figure = grid_update_time_figure(costs, "simtex", "pspc_probes", {"5", "10", "50"}, "nps_time", "N_ps");
   EXPECT_NO_THROW(require_valid_figure(figure));
-  ASSERT_EQ(figure.series.size(), 2u);
+  ASSERT_EQ(figure.series.size(), 3u);
   EXPECT_EQ(figure.series[0].label, "cop-fscil");
   expect_values(figure.series[0].x, {0, 2}, "cop-fscil x");
   expect_values(figure.series[0].y, {0.10, 0.41}, "cop-fscil seconds");
   EXPECT_EQ(figure.series[1].label, "orco");
   expect_values(figure.series[1].x, {0}, "orco x");
+  EXPECT_EQ(figure.series[2].label, "cop-fscil [shot=1]");
+  expect_values(figure.series[2].y, {9}, "cop-fscil at shot 1");
 }
 
 TEST(RunFigures, ContextRatioIsTheMeanOverSeedsPerSessionAndNoFigureWithoutIt) {
@@ -215,7 +217,7 @@ TEST(RunFigures, ContextRatioIsTheMeanOverSeedsPerSessionAndNoFigureWithoutIt) {
 }
 
 TEST(RunFigures, EfficiencyFiguresAreThreeBarPanelsOneBarPerMethodAndCell) {
-  CostRow orco{"orco", "simtex", ""}, probes{"cop-fscil", "simtex", "pspc_probes=5"}, elsewhere{"orco", "lmt108", ""};
+  CostRow orco{"orco", "simtex", {}}, probes{"cop-fscil", "simtex", {{"pspc_probes", "5"}}}, elsewhere{"orco", "lmt108", {}};
   orco.mega_flops = 54.4;
   orco.parameters_millions = 2.5;
   orco.inference_ms_per_sample = 1.1;
@@ -228,7 +230,9 @@ TEST(RunFigures, EfficiencyFiguresAreThreeBarPanelsOneBarPerMethodAndCell) {
   for (const Figure& figure : figures) {
     EXPECT_NO_THROW(require_valid_figure(figure)) << figure.name;
     EXPECT_EQ(figure.kind, FigureKind::bars);
-    EXPECT_EQ(figure.x_categories, (std::vector<std::string>{"orco", "cop-fscil [pspc_probes=5]"})) << figure.name;
+    // "cop-fscil [pspc_probes=5]" is wider than a category label: the key is abbreviated, and spelt out.
+    EXPECT_EQ(figure.x_categories, (std::vector<std::string>{"orco", "cop-fscil [psp=5]"})) << figure.name;
+    EXPECT_EQ(figure.note, "psp = pspc_probes") << figure.name;
   }
   expect_values(figures[0].series.at(0).y, {54.4, 60}, "MFLOPs");
   expect_values(figures[1].series.at(0).y, {2.5, 0}, "NP");

@@ -76,7 +76,7 @@ TEST(SelectionBias, OtherSweepKeysAreRowsOfTheirOwn) {
   for (const char* shot : {"1", "5"}) {
     for (const char* selection : {"last", "test-oracle"}) {
       RunRecord run = chosen_by(selection, "orco", 1, {90, std::string(shot) == "1" ? 60.0 : 70.0});
-      run.grid["shot"] = shot;
+      run.grid.emplace_back("shot", shot);
       if (std::string(selection) == "test-oracle") run.sessions[1].accuracy.all += 2;
       runs.push_back(run);
     }

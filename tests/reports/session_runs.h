@@ -31,7 +31,7 @@ inline RunRecord run_with_accuracies(const std::string& method, const std::strin
 }
 
 // `record` as a run of the sweep cell `grid`, under the epoch selection `selection`.
-inline RunRecord in_cell(RunRecord record, std::map<std::string, std::string> grid, const std::string& selection = "last") {
+inline RunRecord in_cell(RunRecord record, GridCell grid, const std::string& selection = "last") {
   record.grid = std::move(grid);
   record.selection = selection;
   return record;

@@ -79,6 +79,46 @@ TEST(RunRecord, RoundTripsThroughJson) {
   EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
 }
 
+TEST(RunRecord, ASweepCellKeepsTheKeyOrderOfTheGridThroughItsFile) {
+  RunRecord swept = record_of("cop-fscil", 1, {90, 80});
+  swept.grid = {{"shot", "5"}, {"pic_weight", "0.1"}};
+  const std::string text = to_json_text(swept);
+  const RunRecord copy = run_record_from_json_text(text, "cell.json");
+  EXPECT_EQ(copy.grid, (GridCell{{"shot", "5"}, {"pic_weight", "0.1"}}));
+  EXPECT_EQ(grid_cell_name(copy.grid), "shot=5+pic_weight=0.1");
+
+  nlohmann::json older = nlohmann::json::parse(text);
+  older.erase("grid_keys");  // as files written before the order was kept
+  EXPECT_EQ(grid_cell_name(run_record_from_json_text(older.dump(), "old.json").grid), "pic_weight=0.1+shot=5");
+  EXPECT_EQ(to_json_text(record_of("prototype", 1, {90, 80})).find("grid_keys"), std::string::npos)
+      << "a run outside a sweep writes no key order";
+
+  nlohmann::json odd = nlohmann::json::parse(text);
+  odd["grid_keys"] = {"shot", "way"};
+  try {
+    run_record_from_json_text(odd.dump(), "odd.json");
+    ADD_FAILURE() << "a key order naming another key was accepted";
+  } catch (const ReportError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "odd.json: field 'grid_keys': expected the keys of grid (pic_weight, shot), found shot, way");
+  }
+}
+
+TEST(RunRecord, CellsOfOneFolderShareOneKeyOrder) {
+  const TemporaryDirectory folder;
+  RunRecord first = record_of("cop-fscil", 1, {90, 80});
+  first.grid = {{"shot", "5"}, {"pic_weight", "0.1"}};
+  RunRecord older = record_of("cop-fscil", 2, {90, 80});
+  older.grid = {{"pic_weight", "0.1"}, {"shot", "5"}};  // alphabetical, as a file without its key order
+  save_run_record(folder.path(), first);
+  save_run_record(folder.path(), older);
+  const std::vector<RunRecord> records = load_run_records(folder.path());
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[0].grid, records[1].grid);
+  EXPECT_EQ(grid_cell_name(records[1].grid), "shot=5+pic_weight=0.1");
+  EXPECT_EQ(summarize_runs(records).rows.size(), 1u) << "one cell, one row";
+}
+
 // A diverged loss is NaN; JSON writes it as null, and the file must still read.
 TEST(RunRecord, NanDiagnosticsSurviveTheResultFile) {
   RunRecord diverged = record_of("pits-sc", 1, {50, 40});
@@ -260,6 +300,7 @@ TEST(RunRecord, OlderFilesWereChosenOnTheLastEpochOutsideASweepAndLoggedNothing)
   nlohmann::json document = nlohmann::json::parse(to_json_text(swept));
   document.erase("selection");
   document.erase("grid");
+  document.erase("grid_keys");
   for (auto& session : document.at("sessions")) EXPECT_EQ(session.erase("training_log"), 1u);
   const RunRecord old = run_record_from_json_text(document.dump(), "old.json");
   EXPECT_EQ(old.selection, "last");
@@ -305,8 +346,8 @@ TEST(RunRecord, RefusesOtherSelectionsAndCellOrStageTextNoFolderOrCsvFieldCanHol
             "odd.json: training log value 'loss,ce', expected a name without commas, quotes or line breaks");
 }
 
-TEST(RunRecord, CellNamesSortTheKeysAndJoinThemWithPlus) {
-  EXPECT_EQ(grid_cell_name({{"shot", "5"}, {"pic_weight", "0.1"}}), "pic_weight=0.1+shot=5");
+TEST(RunRecord, CellNamesJoinTheKeysInTheGridsOrderWithPlus) {
+  EXPECT_EQ(grid_cell_name({{"shot", "5"}, {"pic_weight", "0.1"}}), "shot=5+pic_weight=0.1");
   EXPECT_EQ(grid_cell_name({{"pspc_probes", "50"}}), "pspc_probes=50");
   EXPECT_EQ(grid_cell_name({}), "");
   for (const char* name : {"last", "validation", "test-oracle"}) EXPECT_TRUE(is_selection_name(name)) << name;
@@ -493,7 +534,7 @@ TEST(SummaryTable, SweepCellsAndSelectionsAreRowsOfTheirOwn) {
                                              in_cell(record_of("orco", 1, {95, 70}), {{"shot", "5"}}, "validation")});
   ASSERT_EQ(table.rows.size(), 5u);
   const SummaryRow& weight_01 = table.rows[0];
-  EXPECT_EQ(weight_01.grid, (std::map<std::string, std::string>{{"pic_weight", "0.1"}}));
+  EXPECT_EQ(weight_01.grid, (GridCell{{"pic_weight", "0.1"}}));
   EXPECT_EQ(weight_01.seeds, (std::vector<std::uint64_t>{1, 2}));
   EXPECT_DOUBLE_EQ(weight_01.session_accuracy[0].mean, 85.0);  // (90 + 80) / 2
   EXPECT_DOUBLE_EQ(weight_01.average_accuracy.mean, 77.5);     // (80 + 75) / 2

@@ -33,10 +33,10 @@ TEST(TrainingLog, LogsGoBelowLogsAndTheirSweepCellsFolder) {
   RunRecord record = run_with_accuracies("cop-fscil/cpi+pspc", "simtex", 3, {90});
   EXPECT_EQ(training_log_path(record, false), std::filesystem::path("logs/cop-fscil_cpi_pspc__simtex__seed3.csv"));
   record.grid = {{"shot", "5"}, {"pic_weight", "0.1"}};
-  // A cell's own folder holds its runs alone; a sweep's folder holds every cell's.
+  // A cell's own folder holds its runs alone; a sweep's folder holds every cell's, named in the grid's key order.
   EXPECT_EQ(training_log_path(record, false), std::filesystem::path("logs/cop-fscil_cpi_pspc__simtex__seed3.csv"));
   EXPECT_EQ(training_log_path(record, true),
-            std::filesystem::path("logs/pic_weight=0.1+shot=5/cop-fscil_cpi_pspc__simtex__seed3.csv"));
+            std::filesystem::path("logs/shot=5+pic_weight=0.1/cop-fscil_cpi_pspc__simtex__seed3.csv"));
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 namespace fscil {
 namespace {
 
-using Cell = std::map<std::string, std::string>;
+using Cell = GridCell;
 
 TEST(SweepGrid, ParsesEachKeyWithItsValuesInTheOrderGiven) {
   const auto axes = parse_grid({"pic_weight=0,1,0.1,1e-4", "selection=last,test-oracle", "shot=5"});

@@ -88,7 +88,7 @@ std::string BenchCell::cost_class() const {
 
 std::vector<BenchCell> plan_cells(const RunOptions& options, const std::vector<std::string>& grid) {
   if (options.methods.empty() || options.dataset.empty()) throw CliError("--methods and --dataset are required");
-  std::vector<std::map<std::string, std::string>> grid_cells_of_command = {{}};
+  std::vector<GridCell> grid_cells_of_command = {{}};
   if (!grid.empty()) grid_cells_of_command = grid_cells(parse_grid(grid));
   const auto seeds = parse_seed_list(options.seeds);
   std::vector<BenchCell> cells;
@@ -181,18 +181,11 @@ void require_known_names(const std::vector<RunRecord>& records) {
 
 }  // namespace
 
-std::vector<RunRecord> load_known_run_records(const std::string& results) {
-  std::vector<RunRecord> records = load_run_records(results);
-  require_known_names(records);
-  return records;
-}
-
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid) {
   std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
   require_known_names(records);
-  if (methods.empty()) return records;
-  const std::vector<std::string> order = resolve_method_names(methods);
+  const std::vector<std::string> order = resolve_method_names(methods.empty() ? "all" : methods);
   std::vector<std::string> cells;  // as load_sweep_records ordered them
   for (const auto& record : records) {
     if (std::find(cells.begin(), cells.end(), grid_cell_name(record.grid)) == cells.end()) {
@@ -209,7 +202,7 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
 }
 
 void check_every_cell(const RunOptions& options, const std::vector<std::string>& grid) {
-  std::vector<std::map<std::string, std::string>> cells = {{}};
+  std::vector<GridCell> cells = {{}};
   if (!grid.empty()) cells = grid_cells(parse_grid(grid));
   for (const auto& cell : cells) {
     try {

@@ -18,7 +18,7 @@ struct BenchCell {
   int index = 0;
   std::vector<std::string> methods;
   std::string dataset;
-  std::map<std::string, std::string> grid;  // empty for a run command
+  GridCell grid;  // empty for a run command
   std::uint64_t seed = 0;
   // Epochs of the base session the cell trains (pretraining, pseudo-incremental, OrCo's base),
   // which dominate its cost: a rough size, not a time.
@@ -54,14 +54,12 @@ std::string clock_time(double seconds);
 // the command has no cell K.
 std::string run_cell(const RunOptions& options, const std::vector<std::string>& grid, int index);
 
-// The result files below `results` (load_run_records), each refused unless of a profile and a
-// method this program knows: a table must not carry a name nothing here can run. An out-of-tree
-// method's results are tabulated by its own program, which registers it.
-std::vector<RunRecord> load_known_run_records(const std::string& results);
-
-// The result files below `results` ordered as the command runs them: grid cells as `grid` gives
-// them, then methods as `methods` names them (empty: by file name), then seeds in number order;
-// so tables merged from cells read as the command's own.
+// The result files below `results` (load_run_records) ordered as the command runs them: grid
+// cells as `grid` gives them, then methods as `methods` names them (empty: as `list` does, the
+// registry's order, which puts the CoP-FSCIL ablation in the paper's order), then seeds in number
+// order; so every table and figure reads in the command's order. A file is refused unless of a
+// profile and a method this program knows: a table must not carry a name nothing here can run (an
+// out-of-tree method's results are tabulated by its own program, which registers it).
 std::vector<RunRecord> load_command_records(const std::string& results, const std::string& methods,
                                             const std::vector<std::string>& grid);
 

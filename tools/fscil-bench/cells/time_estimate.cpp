@@ -199,7 +199,7 @@ std::vector<Calibration> estimate_cells(const RunOptions& options, const std::ve
                                         std::vector<BenchCell>& cells, bool one_after_another) {
   one_after_another = one_after_another && options.selection == "last" && uses_stage_cache(options);
   std::map<std::string, std::set<std::string>> trained_stages;  // per grid cell and seed
-  std::map<std::map<std::string, std::string>, std::pair<CommandSizes, StepRate>> of_grid_cell;
+  std::map<GridCell, std::pair<CommandSizes, StepRate>> of_grid_cell;
   std::vector<Calibration> calibrations;
   for (BenchCell& cell : cells) {
     const RunOptions run = grid.empty() ? options : sweep_cell_options(options, cell.grid);

@@ -322,7 +322,7 @@ class AnalyzeCommand : public Subcommand {
   }
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
-    const auto records = load_known_run_records(results_);
+    const auto records = load_command_records(results_, "", {});
     write_file_atomically(std::filesystem::path(out_.empty() ? results_ : out_) / "context_analysis.csv",
                           render_context_analysis_csv(records));
     fmt::print("{}", render_context_analysis_markdown(records));

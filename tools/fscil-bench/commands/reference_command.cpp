@@ -13,7 +13,7 @@ namespace fscil {
 
 void write_reference(const std::string& results, const std::string& out, double tolerance) {
   if (!(tolerance >= 0)) throw ReportError(fmt::format("--tolerance {}: expected a value >= 0", tolerance));
-  const auto records = load_known_run_records(results);
+  const auto records = load_command_records(results, "", {});
   require_replaceable(out);
   if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));
   const auto values = reference_values_of(records, tolerance);
@@ -23,7 +23,7 @@ void write_reference(const std::string& results, const std::string& out, double 
 
 int check_reference(const std::string& results, const std::string& reference) {
   const auto expected = load_reference_csv(reference);
-  const auto records = load_known_run_records(results);
+  const auto records = load_command_records(results, "", {});
   fmt::print(stderr, "{}", unfinished_warning(records));
   const ReferenceCheck check = check_against_reference(records, expected);
   for (const auto& failure : check.failures) fmt::print("FAIL {}\n", failure);

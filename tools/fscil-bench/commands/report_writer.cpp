@@ -23,7 +23,7 @@ std::string write_reports(const std::filesystem::path& out, const std::vector<Ru
   write_file_atomically(out / "sessions.csv", render_tidy_sessions_csv(records));
   write_file_atomically(out / "results.tex", render_latex(table));
   const bool several_cells = std::any_of(records.begin(), records.end(),
-                                        [&](const RunRecord& record) { return record.grid != records.front().grid; });
+                                        [&](const RunRecord& record) { return !same_cell(record.grid, records.front().grid); });
   for (const auto& record : records) {
     write_file_atomically(out / training_log_path(record, several_cells), render_training_log_csv(record));
   }

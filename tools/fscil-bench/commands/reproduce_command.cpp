@@ -16,6 +16,7 @@
 #include "reports/setting_table.h"
 #include "reports/summary_table.h"
 #include "core/error.h"
+#include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/options/data_folder.h"
 #include "tools/fscil-bench/options/help_text.h"
 #include "reports/embedding_figure.h"
@@ -56,15 +57,26 @@ struct Reproduction {
 
 fs::path paper_file(const char* name) { return reference_file(name); }
 
-// Our rows beside the paper's results or ablation table (test-split runs of a dataset it reports).
-Rendered beside_paper(const Results& results) {
+// Our rows beside the paper's results or ablation table (test-split runs of a dataset it reports);
+// our table alone, saying why, where there is nothing to set beside it. `what` leads the caption.
+Rendered beside_paper(const Results& results, const std::string& what) {
+  std::string why_alone;
   if (results.table.evaluated_on != "test") {
-    const std::string text = "Scored on validation: no comparison with the paper's test-split numbers.\n";
-    return {render_markdown(results.table) + text, render_csv(results.table), render_latex(results.table)};
+    why_alone = "Scored on validation: no comparison with the paper's test-split numbers.\n";
+  } else if (results.table.precision != "fp32") {
+    why_alone = fmt::format("The encoder computed in {}: no comparison with the paper's fp32 numbers.\n",
+                            results.table.precision);
+  } else if (paper_dataset_of(results.dataset).empty()) {
+    why_alone = fmt::format("{} is not a dataset of the paper nor a simulation of one: nothing to set beside its "
+                            "rows.\n", results.dataset);
+  }
+  if (!why_alone.empty()) {
+    return {render_markdown(results.table) + "\n" + why_alone, render_csv(results.table),
+            render_latex(results.table, what)};
   }
   const auto rows = compare_with_paper(results.table, load_paper_tables(paper_file("paper_tables.csv")));
   return {render_markdown(results.table) + "\n" + render_paper_comparison_markdown(rows),
-          render_paper_comparison_csv(rows), render_latex(results.table)};
+          render_paper_comparison_csv(rows), render_latex(results.table, what)};
 }
 
 Rendered setting_table(const Results& results, const char* name, const char* caption, const char* method,
@@ -89,12 +101,12 @@ const std::vector<Reproduction>& reproductions() {
   static const std::vector<Reproduction> catalogue = {
       {"results", "Comparison on HapTex, LMT108, LS-100 and NS-100 (Tables II-V); accuracy per session (Fig. 5)",
        "every method, one run per seed", "all", {}, "",
-       [](const Results& results) { return beside_paper(results); }},
+       [](const Results& results) { return beside_paper(results, "Comparison"); }},
       {"ablation", "Progressive ablation on HapTex and LMT108 (Tables VI-VII) and its figure",
        "pits-sc and the four cop-fscil variants", "ablation", {}, "",
        [](const Results& results) {
          write_figure(results.out, ablation_figure(results.table, results.dataset, "ablation_" + results.dataset));
-         return beside_paper(results);
+         return beside_paper(results, "Progressive ablation");
        }},
       {"efficiency", "Computational efficiency: FLOPs, parameters (NP) and inference time (IT) of each method",
        "every method, one run per seed; the cost table", "all", {}, "",
@@ -227,7 +239,7 @@ std::string run_reproduction(const std::string& name, RunOptions options) {
     run_sweep(options, found->grid);
   }
   Results results{options.out, options.dataset, found->grid.empty() ? std::vector<GridAxis>() : parse_grid(found->grid),
-                  found->grid.empty() ? load_run_records(options.out) : load_sweep_records(options.out, found->grid), {},
+                  load_command_records(options.out, found->methods, found->grid), {},
                   {}};
   results.table = summarize_runs(results.records);
   results.costs = summarize_costs(results.records);

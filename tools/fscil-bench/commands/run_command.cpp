@@ -74,12 +74,12 @@ ParameterSet base_parameters(const RunOptions& options) {
 // A --set or --grid key that no dataset, protocol or method reads is a typo: refuse it before
 // training, named by the option that gave it.
 void reject_unread_keys(const ParameterSet& params, const std::vector<const ParameterSet*>& readers,
-                        const std::map<std::string, std::string>& grid) {
+                        const GridCell& grid) {
   ParameterSet combined = params;
   for (const auto* reader : readers) combined.mark_read(reader->read_keys());
   const auto unread = combined.unread_keys();
   if (!unread.empty()) {
-    const bool swept = grid.count(*unread.begin()) > 0;
+    const bool swept = grid_value(grid, *unread.begin()) != nullptr;
     throw ProtocolError(fmt::format("{} {}: no dataset, protocol or method of this run reads it",
                                     swept ? "--grid" : "--set", fmt::join(unread, ", ")));
   }

@@ -7,6 +7,7 @@
 #include "core/parameter_set.h"
 #include "methods/common/precision.h"
 #include "methods/method_registry.h"
+#include "reports/run_record.h"
 
 namespace fscil {
 
@@ -30,7 +31,7 @@ struct RunOptions {
   // (methods/method.h EpochSelection); test-oracle reproduces their habit of choosing on test.
   std::string selection = "last";
   // The sweep cell this command runs (fscil-bench sweep): recorded in every result.
-  std::map<std::string, std::string> grid;
+  GridCell grid;
   // --save-embeddings: "" (none), "last", "all" or session numbers "0,9": the scored test
   // embeddings of those sessions go to OUT/embeddings/RUN.h5 (sessions: the saved session numbers;
   // session_S_embeddings N x D, session_S_labels; base_classes).

@@ -17,7 +17,7 @@ namespace fscil {
 
 namespace fs = std::filesystem;
 
-RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::string, std::string>& cell) {
+RunOptions sweep_cell_options(const RunOptions& sweep, const GridCell& cell) {
   RunOptions run = sweep;
   run.grid = cell;
   run.out = (fs::path(sweep.out) / "cells" / grid_cell_name(cell)).string();
@@ -46,9 +46,11 @@ RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::strin
 }
 
 std::vector<RunRecord> load_sweep_records(const std::string& out, const std::vector<std::string>& grid) {
-  std::vector<std::string> order;
+  std::vector<std::string> order, keys;
   for (const auto& cell : grid_cells(parse_grid(grid))) order.push_back(grid_cell_name(cell));
+  for (const auto& axis : parse_grid(grid)) keys.push_back(axis.key);
   std::vector<RunRecord> records = load_run_records(out);
+  for (auto& record : records) record.grid = in_key_order(record.grid, keys);  // the command's order
   const auto position = [&](const RunRecord& record) {
     return std::find(order.begin(), order.end(), grid_cell_name(record.grid)) - order.begin();
   };

@@ -17,7 +17,7 @@ std::string run_sweep(const RunOptions& options, const std::vector<std::string>&
 
 // The run command of one cell of a sweep: its values as --set assignments (or --selection, for
 // the key selection), its own folder OUT/cells/KEY=VALUE+...; CliError on a key both fixed and swept.
-RunOptions sweep_cell_options(const RunOptions& sweep, const std::map<std::string, std::string>& cell);
+RunOptions sweep_cell_options(const RunOptions& sweep, const GridCell& cell);
 
 // The result files below a sweep's folder with the cells in the order of `grid` (the first axis
 // varying slowest), so tables list them as the command named them.

@@ -63,14 +63,14 @@ std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts) {
   return axes;
 }
 
-std::vector<std::map<std::string, std::string>> grid_cells(const std::vector<GridAxis>& axes) {
-  std::vector<std::map<std::string, std::string>> cells = {{}};
+std::vector<GridCell> grid_cells(const std::vector<GridAxis>& axes) {
+  std::vector<GridCell> cells = {{}};
   for (const auto& axis : axes) {
-    std::vector<std::map<std::string, std::string>> extended;
+    std::vector<GridCell> extended;
     for (const auto& cell : cells) {
       for (const auto& value : axis.values) {
         extended.push_back(cell);
-        extended.back()[axis.key] = value;
+        extended.back().emplace_back(axis.key, value);
       }
     }
     cells = std::move(extended);

@@ -1,7 +1,8 @@
 #pragma once
-#include <map>
 #include <string>
 #include <vector>
+
+#include "reports/run_record.h"
 
 namespace fscil {
 
@@ -19,7 +20,7 @@ constexpr int kMaxGridCells = 10000;
 // more than kMaxGridCells cells in all.
 std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts);
 
-// Every combination of one value per axis (the first axis varies slowest), each as key -> value.
-std::vector<std::map<std::string, std::string>> grid_cells(const std::vector<GridAxis>& axes);
+// Every combination of one value per axis (the first axis varies slowest), its keys in the axes' order.
+std::vector<GridCell> grid_cells(const std::vector<GridAxis>& axes);
 
 }  // namespace fscil
