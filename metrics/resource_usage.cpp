@@ -7,6 +7,7 @@
 
 #include <ctime>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -14,17 +15,27 @@
 
 namespace fscil {
 
-std::int64_t peak_resident_bytes() {
-  // VmHWM is the peak that clear_refs resets; ru_maxrss never resets.
+namespace {
+
+// A "Name:    1234 kB" line of /proc/self/status, in bytes.
+std::optional<std::int64_t> status_bytes(const char* name) {
   std::ifstream status("/proc/self/status");
   std::string line;
   while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) != 0) continue;
-    const auto first = line.find_first_of("0123456789");  // "VmHWM:    1234 kB"
+    if (line.rfind(name, 0) != 0) continue;
+    const auto first = line.find_first_of("0123456789");
     if (first == std::string::npos) continue;
     const auto digits = line.substr(first, line.find_first_not_of("0123456789", first) - first);
     if (const auto kilobytes = parse_number<std::int64_t>(digits)) return *kilobytes * 1024;
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::int64_t peak_resident_bytes() {
+  // VmHWM is the peak that clear_refs resets; ru_maxrss never resets.
+  if (const auto peak = status_bytes("VmHWM:")) return *peak;
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // Linux reports kilobytes
@@ -34,6 +45,10 @@ void reset_peak_resident() {
   std::ofstream clear_refs("/proc/self/clear_refs");
   clear_refs << "5";
 }
+
+std::int64_t resident_bytes() { return status_bytes("VmRSS:").value_or(0); }
+
+void give_back_freed_memory() { malloc_trim(0); }
 
 void keep_freed_memory_for_reuse() {
   mallopt(M_MMAP_MAX, 0);

@@ -11,6 +11,12 @@ std::int64_t peak_resident_bytes();
 // Starts a new peak from the current resident size, so each run of a multi-run process reports
 // its own peak. Without Linux's clear_refs the peak stays process-wide.
 void reset_peak_resident();
+// The resident set size of this process now, in bytes (0 where /proc cannot be read).
+std::int64_t resident_bytes();
+// Gives the kernel back the free memory malloc keeps for reuse (keep_freed_memory_for_reuse), so
+// the resident set is what is in use: before a run's memory is measured from it, or an earlier
+// run's freed blocks would serve the next one unseen.
+void give_back_freed_memory();
 
 // Makes malloc keep freed memory for reuse instead of returning it to the kernel. glibc serves
 // blocks above 32 MiB by mmap and unmaps them on free, so every training step on a large input

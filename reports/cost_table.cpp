@@ -35,7 +35,7 @@ const std::vector<Column>& columns() {
       {"it_ms", "IT (ms/sample)", [](const CostRow& r) { return fmt::format("{:.3f}", r.inference_ms_per_sample); }},
       {"base_train_s", "base training (s)", [](const CostRow& r) { return fmt::format("{:.1f}", r.base_train_seconds); }},
       {"update_s", "update per session (s)", [](const CostRow& r) { return fmt::format("{:.2f}", r.update_seconds); }},
-      {"peak_rss_mib", "peak memory (MiB)", [](const CostRow& r) { return fmt::format("{:.0f}", r.peak_resident_mib); }},
+      {"run_peak_mib", "memory of the run (MiB)", [](const CostRow& r) { return fmt::format("{:.0f}", r.run_peak_mib); }},
       {"replay_samples", "replay samples", [](const CostRow& r) { return fmt::format("{}", r.replay_samples); }},
       {"replay_mib", "replay memory (MiB)", [](const CostRow& r) { return fmt::format("{:.2f}", r.replay_mib); }},
   };
@@ -73,7 +73,7 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
         ++update_counts[index];
       }
     }
-    row.peak_resident_mib = std::max(row.peak_resident_mib, static_cast<double>(record.peak_resident_bytes) / kMebibyte);
+    row.run_peak_mib = std::max(row.run_peak_mib, static_cast<double>(run_peak_bytes(record)) / kMebibyte);
     row.replay_samples = std::max(row.replay_samples, record.replay_samples);
     row.replay_mib = std::max(row.replay_mib, static_cast<double>(record.replay_bytes) / kMebibyte);
   }

@@ -22,7 +22,7 @@ struct CostRow {
   double inference_ms_per_sample = 0;  // mean over seeds
   double base_train_seconds = 0;    // mean over seeds
   double update_seconds = 0;        // mean over seeds and incremental sessions
-  double peak_resident_mib = 0;     // largest over seeds
+  double run_peak_mib = 0;          // run_peak_bytes, largest over seeds
   std::int64_t replay_samples = 0;  // after the last session; largest over seeds
   double replay_mib = 0;
 };

@@ -55,6 +55,10 @@ bool is_selection_name(const std::string& name) {
 
 bool selected_on_test(const RunRecord& record) { return record.selection == "test-oracle"; }
 
+std::int64_t run_peak_bytes(const RunRecord& record) {
+  return record.peak_resident_bytes - record.resident_at_start_bytes;
+}
+
 bool is_grid_text(const std::string& text) {
   return !text.empty() && text.find_first_not_of(kGridCharacters) == std::string::npos;
 }
@@ -122,6 +126,7 @@ std::string to_json_text(const RunRecord& record) {
                          {"sessions", sessions_json(record.sessions, NonFinite::null)},
                          {"total_seconds", record.total_seconds},
                          {"peak_resident_bytes", record.peak_resident_bytes},
+                         {"resident_at_start_bytes", record.resident_at_start_bytes},
                          {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}},
                          {"inference",
                           {{"macs", record.inference.macs},
@@ -202,7 +207,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
   // Every field to_json_text writes; a file with more was not written by fscil-bench.
   top.require_known_keys({"schema", "method", "dataset", "profile", "seed", "threads", "evaluated_on", "selection",
                           "grid", "grid_keys", "parameters", "protocol_parameters", "machine", "version", "git_commit",
-                          "dataset_key", "sessions", "total_seconds", "peak_resident_bytes", "replay", "inference"});
+                          "dataset_key", "sessions", "total_seconds", "peak_resident_bytes", "resident_at_start_bytes", "replay",
+                          "inference"});
   if (top.whole<int>("schema") != kSchemaVersion) top.fail("schema", fmt::format("{}", kSchemaVersion));
   try {
     RunRecord record;
@@ -257,6 +263,14 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.dataset_key = top.text("dataset_key");
     record.total_seconds = top.number("total_seconds", ValidRange::at_least(0));
     record.peak_resident_bytes = top.whole<std::int64_t>("peak_resident_bytes", 0);
+    if (top.has("resident_at_start_bytes")) {
+      record.resident_at_start_bytes = top.whole<std::int64_t>("resident_at_start_bytes", 0);
+      if (record.resident_at_start_bytes > record.peak_resident_bytes) {
+        top.fail("resident_at_start_bytes",
+                 fmt::format("at most peak_resident_bytes ({}), found {}", record.peak_resident_bytes,
+                             record.resident_at_start_bytes));
+      }
+    }
     // Files written before replay was recorded have none: their methods kept no samples.
     if (top.has("replay")) {
       const Fields replay = top.object("replay");

@@ -63,7 +63,11 @@ struct RunRecord {
   // What the runner measured (metrics/session_outcome.h), written by metrics/session_json.h.
   std::vector<SessionOutcome> sessions;
   double total_seconds = 0;
-  std::int64_t peak_resident_bytes = 0;  // this run's peak, dataset included
+  // The process's peak resident memory during this run, and its resident memory when the run
+  // began (0 in files written before it was recorded): the data and whatever the process loaded
+  // before, which the run shares with every other run of the command.
+  std::int64_t peak_resident_bytes = 0;
+  std::int64_t resident_at_start_bytes = 0;
   InferenceRecord inference;  // all zero in files written before costs were counted
   // Real old samples the method stores after its last session (OrCo's trade-off); 0 for none.
   std::int64_t replay_samples = 0;
@@ -76,6 +80,9 @@ struct RunRecord {
 };
 
 std::string run_record_file_name(const RunRecord& record);
+// The memory the run itself added: its peak above the resident memory it began with (the whole
+// process's peak for a file without the start).
+std::int64_t run_peak_bytes(const RunRecord& record);
 // What the run's encoder computed in (--precision): "bf16" where its protocol parameters say so,
 // "fp32" otherwise (files written before the option existed are fp32).
 std::string precision_of(const RunRecord& record);

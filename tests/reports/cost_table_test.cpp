@@ -36,7 +36,7 @@ TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
   EXPECT_EQ(rows[0].runs, 2u);
   EXPECT_DOUBLE_EQ(rows[0].base_train_seconds, 110);
   EXPECT_DOUBLE_EQ(rows[0].update_seconds, 3);  // (2 + 2 + 4 + 4) / 4 sessions
-  EXPECT_DOUBLE_EQ(rows[0].peak_resident_mib, 950);
+  EXPECT_DOUBLE_EQ(rows[0].run_peak_mib, 950);
   EXPECT_EQ(rows[0].replay_samples, 400);
   EXPECT_DOUBLE_EQ(rows[0].replay_mib, 100);
   EXPECT_EQ(rows[1].replay_samples, 0);
@@ -46,7 +46,7 @@ TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
   EXPECT_DOUBLE_EQ(rows[0].inference_ms_per_sample, 1.1);  // (1.0 + 1.2) / 2 ms
 
   EXPECT_EQ(render_cost_csv(rows),
-            "method,dataset,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,peak_rss_mib,replay_samples,"
+            "method,dataset,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,run_peak_mib,replay_samples,"
             "replay_mib\n"
             "orco,simtex,2,54.4,2.500,0.500,1.100,110.0,3.00,950,400,100.00\n"
             "prototype,simtex,1,54.4,2.500,0.500,0.500,50.0,0.00,700,0,0.00\n");
@@ -54,6 +54,15 @@ TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
             std::string::npos);
   EXPECT_NE(render_cost_latex(rows).find("orco & simtex & 54.4 & 2.500 & 0.500 & 1.100 & 110.0 & 3.00 & 950 & 400 & 100.00 \\\\"),
             std::string::npos);
+}
+
+TEST(CostTable, MemoryIsWhatTheRunAddedToTheProcess) {
+  RunRecord later = timed_run("adbs", 100, 2, 1300, 0);
+  later.resident_at_start_bytes = 400LL << 20;  // the data and what earlier runs of the process still hold
+  RunRecord older = timed_run("prototype", 100, 2, 900, 0);  // a file without the start: the process's peak
+  const auto rows = summarize_costs({later, older});
+  EXPECT_DOUBLE_EQ(rows[0].run_peak_mib, 900);
+  EXPECT_DOUBLE_EQ(rows[1].run_peak_mib, 900);
 }
 
 RunRecord in_cell(RunRecord record, const std::string& probes) {
@@ -71,13 +80,13 @@ TEST(CostTable, SweepCellsAreRowsOfTheirOwnNamedInEveryRendering) {
   EXPECT_EQ(grid_cell_name(rows[0].grid), "pspc_probes=5");
   EXPECT_EQ(rows[0].runs, 2u);
   EXPECT_DOUBLE_EQ(rows[0].update_seconds, 3);  // (2 + 2 + 4 + 4) / 4 sessions; the 6 s of the other cell stay out
-  EXPECT_DOUBLE_EQ(rows[0].peak_resident_mib, 950);
+  EXPECT_DOUBLE_EQ(rows[0].run_peak_mib, 950);
   EXPECT_EQ(grid_cell_name(rows[1].grid), "pspc_probes=10");
   EXPECT_EQ(rows[1].runs, 1u);
   EXPECT_DOUBLE_EQ(rows[1].update_seconds, 6);
   EXPECT_TRUE(rows[2].grid.empty());
   EXPECT_EQ(render_cost_csv(rows),
-            "method,dataset,cell,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,peak_rss_mib,"
+            "method,dataset,cell,runs,mflops,params_m,session_trainable_m,it_ms,base_train_s,update_s,run_peak_mib,"
             "replay_samples,replay_mib\n"
             "orco,simtex,pspc_probes=5,2,54.4,2.500,0.500,1.100,110.0,3.00,950,400,100.00\n"
             "orco,simtex,pspc_probes=10,1,54.4,2.500,0.500,0.900,90.0,6.00,800,400,100.00\n"

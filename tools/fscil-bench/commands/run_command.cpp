@@ -402,7 +402,8 @@ struct RunInProgress {
   std::string base_trained_by;
   bool base_from_cache = false;
   std::optional<FileLock> base_claim;  // StageCache::claim while it trains a base the cache lacks
-  std::int64_t base_peak_bytes = 0;  // of the run that trained a cached base
+  std::int64_t resident_at_start = 0;  // the process's resident memory as the run began
+  std::int64_t base_peak_bytes = 0;    // what the run that trained a cached base added (run_peak_bytes)
   SessionCheckpoints checkpoints;
   double seconds_before = 0;
   Stopwatch clock;
@@ -536,7 +537,7 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
       return;
     }
     try {
-      now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes());
+      now.outcomes.front().diagnostics[kCachedPeakKey] = static_cast<double>(peak_resident_bytes() - run.resident_at_start);
       runs.stage_cache.store(run.base_identity, now);
     } catch (const std::exception& error) {  // a cache that cannot be written costs time, not the run
       progress.note(fmt::format("stage cache not written: {}", error.what()));
@@ -586,7 +587,8 @@ void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns&
   record.dataset_key = plan.dataset.cache_key;
   record.sessions = outcomes;
   record.total_seconds = run.seconds_before + run.clock.seconds();
-  record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), run.base_peak_bytes);
+  record.resident_at_start_bytes = run.resident_at_start;
+  record.peak_resident_bytes = std::max<std::int64_t>(peak_resident_bytes(), run.resident_at_start + run.base_peak_bytes);
   record.inference = {cost.macs(), cost.parameters(), cost.trainable_parameters(), timing.seconds_per_sample,
                       timing.batch};
   const ReplayFootprint replay = run.method->replay_footprint();
@@ -642,7 +644,9 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
   run.context.memory_budget = plan.memory_budget;
   run.context.seed = run.seed;
   run.context.progress = &progress;
+  give_back_freed_memory();  // what earlier runs freed would serve this one unseen
   reset_peak_resident();
+  run.resident_at_start = resident_bytes();
   run.clock = Stopwatch();
   run.base_key = method_entry(run.method_name).shared_base_key;
   run.base_identity = base_identity_of(options, plan, runs, run);
