@@ -11,7 +11,6 @@
 #include <thread>
 #include <cmath>
 #include <cstdio>
-#include <sstream>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -82,28 +81,6 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
     EXPECT_EQ(r_mean, 0.0) << line;
   }
   EXPECT_EQ(rows, 3);
-}
-
-// Issue 70: a run's memory was the process's peak, so it grew with the runs before it (adbs, with
-// prototype's network, read 1294 MiB against prototype's 939 in the main job).
-TEST(Cli, ARunsMemoryIsItsOwnWhateverRanBeforeItInTheProcess) {
-  TemporaryDirectory after, alone;
-  const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out ";
-  ASSERT_EQ(run_cli("--methods pits-sc,adbs" + common + after.path().string()).exit_code, 0);
-  ASSERT_EQ(run_cli("--methods adbs" + common + alone.path().string()).exit_code, 0);
-  const auto memory = [](const std::filesystem::path& folder) {
-    const auto rows = lines_of(folder / "costs.csv");
-    const auto adbs = std::find_if(rows.begin(), rows.end(), [](const std::string& row) { return row.rfind("adbs,", 0) == 0; });
-    EXPECT_NE(adbs, rows.end());
-    if (adbs == rows.end()) return 0.0;
-    std::vector<std::string> fields;
-    std::stringstream stream(*adbs);
-    for (std::string field; std::getline(stream, field, ',');) fields.push_back(field);
-    return std::stod(fields.at(9));  // run_peak_mib
-  };
-  const double after_pits_sc = memory(after.path()), by_itself = memory(alone.path());
-  EXPECT_GT(by_itself, 50) << "ResNet-18 training holds tens of MiB at least";
-  EXPECT_NEAR(after_pits_sc / by_itself, 1.0, 0.05) << after_pits_sc << " MiB after pits-sc, " << by_itself << " alone";
 }
 
 TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {

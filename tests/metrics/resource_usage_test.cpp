@@ -2,21 +2,11 @@
 
 #include <gtest/gtest.h>
 #include <malloc.h>
-#include <unistd.h>
 
 #include <cstdlib>
-#include <fstream>
 
 namespace fscil {
 namespace {
-
-// The process's resident bytes, as the kernel counts them (whatever malloc holds free included).
-std::int64_t resident_bytes() {
-  std::ifstream statm("/proc/self/statm");
-  std::int64_t size = 0, resident = 0;
-  statm >> size >> resident;
-  return resident * sysconf(_SC_PAGESIZE);
-}
 
 constexpr std::int64_t kBlock = std::int64_t{64} << 20;
 
@@ -53,6 +43,27 @@ TEST(ResourceUsage, UnderAMemoryLimitLargeBlocksGoBackToTheKernel) {
         std::exit(resident_left_by_a_freed_block() < kBlock / 8 ? 0 : 1);
       },
       testing::ExitedWithCode(0), "");
+}
+
+// What a run that needs 32 MiB is seen to add, after an earlier run freed a 64 MiB block that
+// malloc keeps for reuse (the main job's case): with the freed memory given back first, its own
+// 32 MiB; without, nothing, as the earlier run's block serves it unseen.
+std::int64_t seen_to_add_after_a_freed_block(bool give_back) {
+  keep_freed_memory_for_reuse();
+  resident_left_by_a_freed_block();
+  if (give_back) give_back_freed_memory();
+  reset_peak_resident();
+  const std::int64_t start = resident_bytes();
+  volatile char* need = static_cast<volatile char*>(std::malloc(kBlock / 2));
+  if (need == nullptr) std::exit(3);
+  for (std::int64_t at = 0; at < kBlock / 2; at += 4096) need[at] = 1;
+  return peak_resident_bytes() - start;
+}
+
+TEST(ResourceUsage, ARunsPeakAboveItsStartIsItsOwnOnceFreedMemoryIsGivenBack) {
+  EXPECT_EXIT(std::exit(seen_to_add_after_a_freed_block(true) > kBlock * 3 / 8 ? 0 : 1), testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(std::exit(seen_to_add_after_a_freed_block(false) < kBlock / 8 ? 0 : 1), testing::ExitedWithCode(0), "")
+      << "without giving back, the earlier block serves the run unseen";
 }
 
 }  // namespace
