@@ -55,6 +55,23 @@ AxisTicks nice_ticks(double low, double high, int target_count) {
   return ticks;
 }
 
+AxisTicks padded_value_axis(double low, double high, double floor, double ceiling, bool pad_low, bool pad_high) {
+  AxisTicks ticks = nice_ticks(low, high);
+  const double data_low = std::isfinite(low) ? std::min(low, high) : ticks.low;
+  const double data_high = std::isfinite(high) ? std::max(low, high) : ticks.high;
+  // Bounds the data respect: ticks beyond them would show values the quantity cannot take.
+  if (data_low >= floor && ticks.low < floor) ticks.low = floor;
+  if (data_high <= ceiling && ticks.high > ceiling) ticks.high = ceiling;
+  ticks.values.erase(std::remove_if(ticks.values.begin(), ticks.values.end(),
+                                    [&](double value) { return value < ticks.low - 1e-9 * ticks.step ||
+                                                               value > ticks.high + 1e-9 * ticks.step; }),
+                     ticks.values.end());
+  const double pad = 0.04 * (ticks.high - ticks.low);
+  if (pad_low) ticks.low -= pad;
+  if (pad_high) ticks.high += pad;
+  return ticks;
+}
+
 AxisTicks ticks_within(double low, double high, double step) {
   AxisTicks ticks;
   ticks.low = low;

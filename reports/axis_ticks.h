@@ -16,6 +16,12 @@ struct AxisTicks {
 // About `target_count` ticks covering [low, high]. A single value gets an axis around it, and
 // non-finite bounds (no data) the axis 0 to 1.
 AxisTicks nice_ticks(double low, double high, int target_count = 6);
+// The one value-axis rule of every figure: nice_ticks over the data [low, high], none outside the
+// quantity's natural bounds [floor, ceiling] (an accuracy is never below 0 nor above 100), and the
+// axis reaching 4% of its span past the outer ticks (where `pad_low`, `pad_high`), so a point on
+// the first or last tick does not sit on the frame. A bar chart's baseline 0 takes no padding.
+AxisTicks padded_value_axis(double low, double high, double floor, double ceiling, bool pad_low = true,
+                            bool pad_high = true);
 // The ticks of `step` (from nice_ticks) inside [low, high], for an axis widened to keep units equal.
 AxisTicks ticks_within(double low, double high, double step);
 // A tick's label with the ticks' decimals; never "-0".

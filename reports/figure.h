@@ -1,5 +1,6 @@
 #pragma once
 #include <cstddef>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@ struct Figure {
   // one (0 .. size - 1). Bars are always categorical.
   std::vector<std::string> x_categories;
   std::vector<FigureSeries> series;
+  // The y quantity's natural bounds (accuracy 0 and 100, R and times 0 and none): no tick beyond them.
+  double y_floor = -std::numeric_limits<double>::infinity(), y_ceiling = std::numeric_limits<double>::infinity();
   bool equal_axes = false;        // one unit is as long on x as on y (points on the unit circle)
   bool draw_unit_circle = false;  // x^2 + y^2 = 1, under the data
   // Shown under the title when not empty, e.g. "selected on test (inflated)": a figure must carry

@@ -71,12 +71,32 @@ std::string equal_unit_limits(const Figure& figure) {
     y_low = std::min(y_low, -1.0);
     y_high = std::max(y_high, 1.0);
   }
-  const AxisTicks x = nice_ticks(x_low, x_high), y = nice_ticks(y_low, y_high);
+  const AxisTicks x = padded_value_axis(x_low, x_high, -HUGE_VAL, HUGE_VAL),
+                  y = padded_value_axis(y_low, y_high, figure.y_floor, figure.y_ceiling);
   const double units_per_cm = std::max((x.high - x.low) / axis_width_cm, (y.high - y.low) / axis_height_cm);
   const double x_centre = (x.low + x.high) / 2, y_centre = (y.low + y.high) / 2;
   const double x_half = units_per_cm * axis_width_cm / 2, y_half = units_per_cm * axis_height_cm / 2;
   return fmt::format("xmin={}, xmax={}, ymin={}, ymax={}", pgf_number(x_centre - x_half), pgf_number(x_centre + x_half),
                      pgf_number(y_centre - y_half), pgf_number(y_centre + y_half));
+}
+
+// The y axis as the SVG draws it (padded_value_axis): its ends and its ticks.
+std::string value_axis_limits(const Figure& figure) {
+  double low = HUGE_VAL, high = -HUGE_VAL;
+  for (const auto& series : figure.series) {
+    for (const double y : series.y) {
+      if (!std::isfinite(y)) continue;
+      low = std::min(low, y);
+      high = std::max(high, y);
+    }
+  }
+  const bool bars = figure.kind == FigureKind::bars;
+  if (bars) low = std::min(low, 0.0), high = std::max(high, 0.0);
+  const AxisTicks y = padded_value_axis(low, high, figure.y_floor, figure.y_ceiling, !(bars && low == 0),
+                                        !(bars && high == 0));
+  std::vector<std::string> ticks;
+  for (const double value : y.values) ticks.push_back(pgf_number(value));
+  return fmt::format("ymin={}, ymax={}, ytick={{{}}}", pgf_number(y.low), pgf_number(y.high), fmt::join(ticks, ","));
 }
 
 bool has_legend(const Figure& figure) {
@@ -117,13 +137,12 @@ std::string axis_options(const Figure& figure) {
     const double bar_width = 0.8 * axis_width_cm / static_cast<double>(categories) /
                              static_cast<double>(std::max<std::size_t>(1, figure.series.size()));
     options.push_back(fmt::format("ybar=0pt, bar width={:.3f}cm", bar_width));
-    bool negative = false;
-    for (const auto& series : figure.series) {
-      for (const double y : series.y) negative = negative || (std::isfinite(y) && y < 0);
-    }
-    if (!negative) options.push_back("ymin=0");
   }
-  if (figure.equal_axes && categories == 0) options.push_back(equal_unit_limits(figure));
+  if (figure.equal_axes && categories == 0) {
+    options.push_back(equal_unit_limits(figure));
+  } else {
+    options.push_back(value_axis_limits(figure));
+  }
   return fmt::format("{}", fmt::join(options, ",\n  "));
 }
 

@@ -99,6 +99,8 @@ Figure session_accuracy_figure(const SummaryTable& table, const std::string& dat
                              table.precision_note());
   figure.x_label = "session";
   figure.y_label = y_label;
+  figure.y_floor = 0;
+  figure.y_ceiling = 100;
   std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
     if (row.dataset != dataset) continue;
@@ -128,6 +130,7 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
   figure.title = fmt::format("Context-to-class dispersion R per session on {}", dataset);
   figure.x_label = "session";
   figure.y_label = "R (mean over classes and seeds)";
+  figure.y_floor = 0;  // a ratio of dispersions
   // (label) -> per session the values of its seeds
   std::vector<std::pair<SeriesName, std::vector<std::vector<double>>>> lines;
   for (const auto& record : records) {
@@ -159,6 +162,10 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
     figure.x_categories = session_categories(std::max(figure.x_categories.size(), sessions.size()));
     figure.series.push_back(std::move(series));
   }
+  const bool all_zero = !figure.series.empty() && std::all_of(figure.series.begin(), figure.series.end(), [](const auto& series) {
+    return std::all_of(series.y.begin(), series.y.end(), [](double r) { return !std::isfinite(r) || r == 0; });
+  });
+  if (all_zero) add_note(figure, "R is 0 throughout: the scored split holds one context per class");
   label_series(figure, names);
   return figure;
 }
@@ -181,6 +188,7 @@ std::vector<Figure> efficiency_figures(const std::vector<CostRow>& costs, const 
     figure.kind = FigureKind::bars;
     figure.x_label = "method";
     figure.y_label = panel.y_label;
+    figure.y_floor = 0;
     FigureSeries series{"", {}, {}};
     std::vector<SeriesName> names;
     for (const auto& row : costs) {
@@ -228,6 +236,7 @@ Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset,
   figure.title = title;
   figure.x_label = key;
   figure.y_label = metric == "Acc0" ? "session 0 accuracy (%)" : metric + (metric == "ADR" ? "" : " (%)");
+  if (metric == "AA" || metric == "Acc0") figure.y_floor = 0, figure.y_ceiling = 100;
   figure.x_categories = values;
   std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
@@ -262,6 +271,7 @@ Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::str
   figure.title = title;
   figure.x_label = key;
   figure.y_label = "time per incremental session (s)";
+  figure.y_floor = 0;
   figure.x_categories = values;
   std::vector<SeriesName> names;
   for (const auto& row : costs) {

@@ -158,8 +158,10 @@ class SvgFigure {
         y.add(bound);
       }
     }
-    const AxisTicks data_y = nice_ticks(y.low, y.high);
-    const AxisTicks data_x = categorical() ? AxisTicks{} : nice_ticks(x.low, x.high);
+    const bool bars = figure_.kind == FigureKind::bars;
+    const AxisTicks data_y = padded_value_axis(y.low, y.high, figure_.y_floor, figure_.y_ceiling,
+                                               !(bars && y.low == 0), !(bars && y.high == 0));
+    const AxisTicks data_x = categorical() ? AxisTicks{} : padded_value_axis(x.low, x.high, -HUGE_VAL, HUGE_VAL);
     x_ticks_ = data_x;
     y_ticks_ = data_y;
 

@@ -62,6 +62,32 @@ std::vector<std::string> series_tags(const std::string& svg, std::size_t index, 
   return tags_of(svg, name, begin, svg.find("</g>", begin));
 }
 
+// Issue 70: points at the ends of the range sat on the frame (prototype's 60 on the top border),
+// and the R axis ran -1 to 1 where R cannot be negative.
+TEST(FigureTicks, AValueAxisIsPaddedAndNeverTicksPastTheQuantitysBounds) {
+  const AxisTicks novel = padded_value_axis(0, 60, 0, 100);
+  EXPECT_DOUBLE_EQ(novel.values.front(), 0);
+  EXPECT_DOUBLE_EQ(novel.values.back(), 60);
+  EXPECT_DOUBLE_EQ(novel.low, -2.4);  // 4% of the ticks' 0 to 60 past each end
+  EXPECT_DOUBLE_EQ(novel.high, 62.4);
+
+  const AxisTicks near_full = padded_value_axis(96.5, 100, 0, 100);
+  EXPECT_LE(near_full.values.back(), 100) << "no tick above 100%";
+  EXPECT_GT(near_full.high, 100) << "100% off the frame";
+
+  const AxisTicks ratio = padded_value_axis(0, 0, 0, HUGE_VAL);  // R is 0 in every session
+  EXPECT_DOUBLE_EQ(ratio.values.front(), 0) << "no negative R";
+  EXPECT_GT(ratio.values.back(), 0);
+  EXPECT_LT(ratio.low, 0);
+
+  const AxisTicks bars = padded_value_axis(0, 50, 0, HUGE_VAL, false, true);
+  EXPECT_DOUBLE_EQ(bars.low, 0) << "a bar chart's baseline takes no padding";
+  EXPECT_DOUBLE_EQ(bars.high, 52);
+
+  const AxisTicks drop = padded_value_axis(-12, 30, 0, 100);  // data past a bound keep their ticks
+  EXPECT_LT(drop.values.front(), -12 + 1e-9);
+}
+
 TEST(FigureTicks, FallOnNiceNumbersCoveringTheData) {
   const AxisTicks percent = nice_ticks(0, 100);
   EXPECT_DOUBLE_EQ(percent.step, 20);
@@ -135,6 +161,13 @@ TEST(FigureSvg, EscapesEveryText) {
   EXPECT_EQ(svg.find('\x01'), std::string::npos);
 }
 
+// Where `value` falls along an axis whose ticks run from `low` to `high`, as a fraction of the
+// axis: it runs 4% of the ticks' span past them each way (padded_value_axis).
+double along(double value, double low, double high) {
+  const double pad = 0.04 * (high - low);
+  return (value - (low - pad)) / (high - low + 2 * pad);
+}
+
 TEST(FigureSvg, PlacesEachPointWhereItsAxesSayItIs) {
   const std::string svg = render_svg(lines_figure({0, 5, 10}, {0, 50, 100}));
   const Box area = plot_area(svg);
@@ -142,24 +175,27 @@ TEST(FigureSvg, PlacesEachPointWhereItsAxesSayItIs) {
   ASSERT_GT(area.height, 250);
   const auto points = series_tags(svg, 0, "circle");
   ASSERT_EQ(points.size(), 3u);
-  // Axes run 0 to 10 and 0 to 100: the first point in the lower left corner, the last upper right.
-  EXPECT_NEAR(number_attribute(points[0], "cx"), area.left, pixel);
-  EXPECT_NEAR(number_attribute(points[0], "cy"), area.bottom(), pixel);
+  // Ticks run 0 to 10 and 0 to 100, the axes 4% of that further each way: the first point near
+  // the lower left corner but off the frame, the last near the upper right.
+  EXPECT_NEAR(number_attribute(points[0], "cx"), area.left + area.width * along(0, 0, 10), pixel);
+  EXPECT_NEAR(number_attribute(points[0], "cy"), area.bottom() - area.height * along(0, 0, 100), pixel);
+  EXPECT_GT(number_attribute(points[0], "cx"), area.left + 10);
   EXPECT_NEAR(number_attribute(points[1], "cx"), area.left + area.width / 2, pixel);
   EXPECT_NEAR(number_attribute(points[1], "cy"), area.top + area.height / 2, pixel);
-  EXPECT_NEAR(number_attribute(points[2], "cx"), area.right(), pixel);
-  EXPECT_NEAR(number_attribute(points[2], "cy"), area.top, pixel);
+  EXPECT_NEAR(number_attribute(points[2], "cx"), area.left + area.width * along(10, 0, 10), pixel);
+  EXPECT_NEAR(number_attribute(points[2], "cy"), area.bottom() - area.height * along(100, 0, 100), pixel);
+  EXPECT_GT(number_attribute(points[2], "cy"), area.top + 10);
   for (const char* label : {">0</text>", ">20</text>", ">80</text>", ">100</text>", ">10</text>"}) {
     EXPECT_NE(svg.find(label), std::string::npos) << label;
   }
 
-  // 43.2 to 91.7 gets the axis 40 to 100: 91.7 is 51.7 / 60 of the way up.
+  // 43.2 to 91.7 gets the ticks 40 to 100.
   const std::string accuracies = render_svg(lines_figure({0, 1}, {43.2, 91.7}));
   const Box box = plot_area(accuracies);
   const auto marks = series_tags(accuracies, 0, "circle");
   ASSERT_EQ(marks.size(), 2u);
-  EXPECT_NEAR(number_attribute(marks[1], "cy"), box.bottom() - box.height * 51.7 / 60, pixel);
-  EXPECT_NEAR(number_attribute(marks[0], "cy"), box.bottom() - box.height * 3.2 / 60, pixel);
+  EXPECT_NEAR(number_attribute(marks[1], "cy"), box.bottom() - box.height * along(91.7, 40, 100), pixel);
+  EXPECT_NEAR(number_attribute(marks[0], "cy"), box.bottom() - box.height * along(43.2, 40, 100), pixel);
   EXPECT_NE(accuracies.find(">40</text>"), std::string::npos);
   EXPECT_EQ(accuracies.find(">30</text>"), std::string::npos);
 }
@@ -171,8 +207,8 @@ TEST(FigureSvg, ANonFiniteValueIsAGapInTheLine) {
   ASSERT_EQ(paths.size(), 1u);  // 0 alone draws no line; 2 to 3 is one segment
   EXPECT_EQ(occurrences(paths[0], " L"), 1u);
   const Box area = plot_area(svg);
-  // The segment runs from (2, 30) to (3, 40) on the axes 0 to 3 and 10 to 40.
-  EXPECT_NE(paths[0].find(fmt::format("M{:.2f},", area.left + area.width * 2 / 3)), std::string::npos) << paths[0];
+  // The segment runs from (2, 30) to (3, 40) on the axes of ticks 0 to 3 and 10 to 40.
+  EXPECT_NE(paths[0].find(fmt::format("M{:.2f},", area.left + area.width * along(2, 0, 3))), std::string::npos) << paths[0];
 
   const std::string infinite = render_svg(lines_figure({0, 1, 2}, {1, std::numeric_limits<double>::infinity(), 3}));
   EXPECT_EQ(series_tags(infinite, 0, "circle").size(), 2u);
@@ -201,9 +237,10 @@ TEST(FigureSvg, BarsStandSideBySidePerCategoryAndSkipGaps) {
   EXPECT_NEAR(number_attribute(first[0], "x"), area.left + 0.1 * band, pixel);
   EXPECT_NEAR(number_attribute(first[0], "width"), 0.4 * band, pixel);
   EXPECT_NEAR(number_attribute(second[0], "x"), area.left + 0.5 * band, pixel);
-  EXPECT_NEAR(number_attribute(first[0], "height"), area.height * 10 / 50, pixel);
+  // Ticks 0 to 50, the axis to 52 above and none below the bars' baseline.
+  EXPECT_NEAR(number_attribute(first[0], "height"), area.height * 10 / 52, pixel);
   EXPECT_NEAR(number_attribute(first[0], "y") + number_attribute(first[0], "height"), area.bottom(), pixel);
-  EXPECT_NEAR(number_attribute(first[1], "y"), area.top, pixel);  // 50 reaches the top
+  EXPECT_NEAR(number_attribute(first[1], "y"), area.top + area.height * 2 / 52, pixel);  // 50 stops short of the top
   EXPECT_NEAR(number_attribute(second[1], "x"), area.left + 2.5 * band, pixel);  // orco's, category 2
   // The second series is hatched, so the two differ in grey too.
   EXPECT_NE(second[0].find("fill=\"url(#hatch-1)\""), std::string::npos);
@@ -386,8 +423,9 @@ TEST(FigurePgfplots, ScatterIsMarksOnlyWithEqualAxesAndTheUnitCircle) {
   const std::string tex = render_pgfplots(figure);
   SCOPED_TRACE(tex);
   EXPECT_TRUE(braces_balance(tex));
-  // Axes -1 to 1 in a 7 x 4.6 cm box with equal units: x widened to 7 / 4.6 of the y range.
-  EXPECT_NE(tex.find(fmt::format("xmin={:.8g}, xmax={:.8g}, ymin=-1, ymax=1", -7 / 4.6, 7 / 4.6)), std::string::npos);
+  // Ticks -1 to 1, the axes 4% further, in a 7 x 4.6 cm box with equal units: x widened to 7 / 4.6 of the y range.
+  EXPECT_NE(tex.find(fmt::format("xmin={:.8g}, xmax={:.8g}, ymin=-1.08, ymax=1.08", -7 / 4.6 * 1.08, 7 / 4.6 * 1.08)),
+            std::string::npos);
   EXPECT_NE(tex.find("\\addplot[forget plot, gray, dashed, no marks, domain=0:360, samples=91] ({cos(x)}, {sin(x)});"),
             std::string::npos);
   EXPECT_NE(tex.find("\\addplot[only marks, color=fscilfigure0, mark=*, mark options={solid}] coordinates {(0.6,0.8)};"),

@@ -212,6 +212,12 @@ TEST(RunFigures, ContextRatioIsTheMeanOverSeedsPerSessionAndNoFigureWithoutIt) {
   EXPECT_EQ(figure.series[0].label, "orco");
   expect_values(figure.series[0].y, {0.4, 0.7}, "R");
   EXPECT_TRUE(context_ratio_figure({unmeasured}, "simtex").series.empty());
+  EXPECT_DOUBLE_EQ(figure.y_floor, 0) << "R is a ratio of dispersions";
+  EXPECT_EQ(figure.note, "");
+  RunRecord one_context = first;  // simtex-mini's test split: one recording per class
+  for (auto& session : one_context.sessions) session.context_ratio_mean = 0;
+  EXPECT_EQ(context_ratio_figure({one_context}, "simtex").note,
+            "R is 0 throughout: the scored split holds one context per class");
   EXPECT_TRUE(context_ratio_figure({first}, "simtex-lmt").series.empty());
   EXPECT_EQ(context_ratio_figure({in_cell(first, {}, "test-oracle")}, "simtex").note, "selected on test (inflated)");
 }
