@@ -26,10 +26,10 @@ namespace {
 constexpr std::size_t max_inline_rows = 1000;
 
 const char* const page_style = R"(body{font-family:"DejaVu Sans","Liberation Sans",Arial,Helvetica,sans-serif;
-color:#1a1a1a;line-height:1.45;max-width:76rem;margin:1.5rem auto;padding:0 1rem}
+color:#1a1a1a;line-height:1.45;max-width:100rem;margin:1.5rem auto;padding:0 1rem}
 h1{font-size:1.5rem}h2{font-size:1.2rem;border-bottom:1px solid #bbb;padding-bottom:.2rem;margin-top:2.2rem}
 h3{font-size:1rem;margin-top:1.4rem}ul.files{columns:18rem;padding-left:1.2rem}
-div.table{overflow-x:auto;margin:.4rem 0 1.2rem}table{border-collapse:collapse;font-size:.82rem}
+div.table{overflow-x:auto;margin:.4rem 0 1.2rem}table{border-collapse:collapse;font-size:.8rem}
 th,td{border:1px solid #ccc;padding:.15rem .45rem;text-align:left;white-space:nowrap}
 th{background:#f0f0f0}td.number{text-align:right;font-variant-numeric:tabular-nums}
 div.figures{display:flex;flex-wrap:wrap;gap:0 2rem}figure{margin:.5rem 0 1.5rem;max-width:642px}
@@ -43,6 +43,32 @@ struct FolderContents {
   bool has_results = false;
   std::size_t run_files = 0;
 };
+
+// Where a table or figure stands on the page, in the order a reader wants them: the summary and the
+// reproduction's own tables, then accuracy per session, then the costs, then the rest, with the
+// long tidy tables last.
+int reading_rank(const fs::path& file) {
+  const std::string stem = file.stem().string();
+  if (file.extension() != ".svg") {
+    if (stem == "summary") return 0;
+    if (stem == "costs") return 20;
+    if (stem == "sessions" || stem == "context_analysis") return 40;
+    return 1;
+  }
+  if (stem.rfind("sessions_", 0) == 0) {
+    int suffix = 0;
+    for (const char* metric : {"_all", "_base", "_novel", "_harmonic"}) {
+      const std::string ending = metric;
+      if (stem.size() >= ending.size() && stem.compare(stem.size() - ending.size(), ending.size(), ending) == 0) {
+        return 10 + suffix;
+      }
+      ++suffix;
+    }
+    return 14;
+  }
+  if (stem.rfind("efficiency_", 0) == 0) return 21;
+  return 30;
+}
 
 // "shot-5" before "shot-10": runs of digits compare as numbers, the rest byte by byte.
 bool natural_less(const std::string& a, const std::string& b) {
@@ -120,10 +146,13 @@ Folders folder_contents(const fs::path& root) {
     }
   }
   if (error) throw ReportError(fmt::format("{}: cannot list ({})", root.string(), error.message()));
-  const auto by_path = [](const fs::path& a, const fs::path& b) { return natural_less(a.generic_string(), b.generic_string()); };
+  const auto in_reading_order = [](const fs::path& a, const fs::path& b) {
+    if (reading_rank(a) != reading_rank(b)) return reading_rank(a) < reading_rank(b);
+    return natural_less(a.generic_string(), b.generic_string());
+  };
   for (auto& [folder, contents] : folders) {
-    std::sort(contents.tables.begin(), contents.tables.end(), by_path);
-    std::sort(contents.figures.begin(), contents.figures.end(), by_path);
+    std::sort(contents.tables.begin(), contents.tables.end(), in_reading_order);
+    std::sort(contents.figures.begin(), contents.figures.end(), in_reading_order);
   }
   return folders;
 }
@@ -231,16 +260,26 @@ std::string folder_section(const fs::path& root, const std::string& folder, cons
                        link(results.lexically_normal(), "results/", true), contents.run_files,
                        contents.run_files == 1 ? "" : "s");
   }
+  // The folder's own tables inline (a sweep cell's are linked above), with the figures between them
+  // in reading order; neighbouring figures share one row.
+  std::vector<fs::path> shown;
   if (folder.empty()) {
     for (const auto& table : contents.tables) {
-      if (table.extension() == ".csv") out += inline_table(root, table);
+      if (table.extension() == ".csv") shown.push_back(table);
     }
   }
-  if (!contents.figures.empty()) {
-    out += "<h3>Figures</h3>\n<div class=\"figures\">\n";
-    for (const auto& figure : contents.figures) out += figure_entry(root, figure);
-    out += "</div>\n";
+  shown.insert(shown.end(), contents.figures.begin(), contents.figures.end());
+  std::stable_sort(shown.begin(), shown.end(),
+                   [](const fs::path& a, const fs::path& b) { return reading_rank(a) < reading_rank(b); });
+  bool in_figures = false;
+  for (const auto& item : shown) {
+    const bool figure = item.extension() == ".svg";
+    if (figure && !in_figures) out += "<div class=\"figures\">\n";
+    if (!figure && in_figures) out += "</div>\n";
+    in_figures = figure;
+    out += figure ? figure_entry(root, item) : inline_table(root, item);
   }
+  if (in_figures) out += "</div>\n";
   return out + "</section>\n";
 }
 

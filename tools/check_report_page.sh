@@ -5,6 +5,8 @@
 #   - a figure does not load (missing file, invalid SVG: natural size 0x0) or draws nothing,
 #   - the page shows fewer or more figures than DIR holds (figures/*.svg outside results/,
 #     checkpoints/ and hidden folders, as the page lists them),
+#   - a table is cut: shown in a scroll box narrower than the table where the page, 1400 px wide,
+#     has room for it whole,
 #   - the browser logs any console message for the page. The page has no script, so any message
 #     is an error; Chromium prints every console level as INFO on stderr, so levels cannot be told
 #     apart there anyway.
@@ -53,7 +55,7 @@ cat > "$work/check.html" <<EOF
 <html><head><meta charset="utf-8"><title>report page check</title></head>
 <body>
 <pre id="verdict">pending</pre>
-<iframe id="page" src="$(file_url "$page")" width="1280" height="1000"></iframe>
+<iframe id="page" src="$(file_url "$page")" width="1400" height="1000"></iframe>
 <script>
 const frame = document.getElementById('page');
 frame.addEventListener('load', () => {
@@ -93,6 +95,17 @@ frame.addEventListener('load', () => {
       lines.push('OK ' + source + ' natural ' + size + ' shown ' + shown_size + ' drawn ' + share.toFixed(1) + '%');
     }
   }
+  // A table in a scroll box narrower than the table while the page has room for it is cut for
+  // no reason: the reader scrolls to see columns the window could show.
+  const tables = document_of_page === null ? [] : Array.from(document_of_page.querySelectorAll('div.table'));
+  const room = document_of_page === null ? 0 : document_of_page.documentElement.clientWidth - 40;
+  for (const box of tables) {
+    const name = box.previousElementSibling === null ? 'a table' : box.previousElementSibling.textContent;
+    if (box.scrollWidth > box.clientWidth + 1 && box.scrollWidth <= room) {
+      lines.push('FAIL ' + name + ' is cut: ' + box.scrollWidth + ' px wide in a ' + box.clientWidth + ' px box, ' +
+                 room + ' px of page');
+    }
+  }
   lines.push('IMAGES ' + images.length);
   lines.push('VERDICT-END');
   document.getElementById('verdict').textContent = lines.join('\n');
@@ -105,7 +118,7 @@ EOF
 # local file this harness wrote.
 status=0
 timeout 90 "$browser" --headless --no-sandbox --disable-gpu --no-first-run --user-data-dir="$work/profile" \
-  --allow-file-access-from-files --window-size=1280,1000 --virtual-time-budget=5000 \
+  --allow-file-access-from-files --window-size=1440,1000 --virtual-time-budget=5000 \
   --enable-logging=stderr --v=0 --dump-dom "$(file_url "$work/check.html")" \
   > "$work/dom.html" 2> "$work/browser.log" || status=$?
 [ "$status" -eq 0 ] || fail "chromium exited with status $status; its last lines: $(tail -n 3 "$work/browser.log" | tr '\n' ' ')"

@@ -290,15 +290,29 @@ TEST(FigureSvg, SeriesDifferInColourAndInGrey) {
     if (s < figure_palette.size()) colours.insert(style.colour);
     dash_and_marker.insert({style.dash, style.marker});
   }
-  EXPECT_EQ(colours.size(), 10u);
+  EXPECT_GE(colours.size(), 13u) << "the thirteen methods of --methods all, each its own colour";
   EXPECT_EQ(dash_and_marker.size(), 40u);
   // Readable on white paper: relative luminance (sRGB) well below white's 1 (yellow F0E442 is 0.78).
+  const auto linear = [](const char* colour, int offset) {
+    const double value = std::stoi(std::string(colour + offset, 2), nullptr, 16) / 255.0;
+    return value <= 0.04045 ? value / 12.92 : std::pow((value + 0.055) / 1.055, 2.4);
+  };
   for (const char* colour : figure_palette) {
-    const auto channel = [&](int offset) {
-      const double value = std::stoi(std::string(colour + offset, 2), nullptr, 16) / 255.0;
-      return value <= 0.04045 ? value / 12.92 : std::pow((value + 0.055) / 1.055, 2.4);
-    };
-    EXPECT_LT(0.2126 * channel(0) + 0.7152 * channel(2) + 0.0722 * channel(4), 0.5) << colour;
+    EXPECT_LT(0.2126 * linear(colour, 0) + 0.7152 * linear(colour, 2) + 0.0722 * linear(colour, 4), 0.5) << colour;
+  }
+  // Told apart: every two at least 25 CIELAB units apart (D65; Okabe and Ito's closest pair, blue and sky blue, is 26).
+  const auto lab = [&](const char* colour) {
+    const double r = linear(colour, 0), g = linear(colour, 2), b = linear(colour, 4);
+    const auto f = [](double t) { return t > 0.008856 ? std::cbrt(t) : 7.787 * t + 16.0 / 116; };
+    const double fx = f((0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.9505), fy = f(0.2126 * r + 0.7152 * g + 0.0722 * b),
+                 fz = f((0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.089);
+    return std::array<double, 3>{116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)};
+  };
+  for (std::size_t i = 0; i < figure_palette.size(); ++i) {
+    for (std::size_t j = i + 1; j < figure_palette.size(); ++j) {
+      const auto a = lab(figure_palette[i]), c = lab(figure_palette[j]);
+      EXPECT_GE(std::hypot(a[0] - c[0], a[1] - c[1], a[2] - c[2]), 25) << figure_palette[i] << " " << figure_palette[j];
+    }
   }
   Figure many = lines_figure({0, 1}, {1, 2});
   for (int s = 1; s < 8; ++s) many.series.push_back({"m" + std::to_string(s), {0, 1}, {1.0 + s, 2.0 + s}});

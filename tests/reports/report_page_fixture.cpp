@@ -1,11 +1,14 @@
 // Writes a small results folder with figures of each kind, a sweep cell in a subfolder and its
 // report page, for the browser test (tests/reports/report_page_browser_test.sh) and for looking
 // at by hand: fscil_report_page_fixture DIR, then open DIR/index.html.
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 #include <limits>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "reports/figure_writer.h"
@@ -82,6 +85,14 @@ int main(int argc, char** argv) {
                                  "method,dataset,split,seeds,AA,PD,ADR\nprototype,simtex,test,1,70.12,31.10,3.89\n"
                                  "<b>cop-fscil</b> & \"x\",simtex,test,1,75.53,25.50,3.19\n");
     fscil::write_file_atomically(folder / "results.tex", "% table\n");
+    // As wide as the main job's sessions.csv: whole on a 1400 px page, cut in a narrower one.
+    std::string sessions = "method,dataset,split,selection,precision,seed,session,seen_classes,accuracy,base,novel,"
+                           "current,harmonic,train_seconds,test_seconds,R\n";
+    for (int session = 0; session < 9; ++session) {
+      sessions += fmt::format("cop-fscil/cpi+pcqa,sf-instruments,validation,last,fp32,1,{},{},81.25,83.50,"
+                              "{},77.10,80.17,123.45,4.56,0.3125\n", session, 60 + 5 * session, 70.0 + session);
+    }
+    fscil::write_file_atomically(folder / "sessions.csv", sessions);
     fscil::write_file_atomically(folder / "results" / "prototype__simtex__seed1.json", "{}\n");
     fscil::write_file_atomically(folder / "checkpoints" / "orco__simtex__seed1.ckpt", "partial\n");
     fscil::write_figure(folder, accuracy_per_session(0));

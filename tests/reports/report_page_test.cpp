@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <string>
 
@@ -45,6 +47,33 @@ void write_results_folder(const fs::path& folder) {
   write_file_atomically(folder / "shot-5" / "summary.csv", "method,AA\nprototype,72\n");
   write_file_atomically(folder / "shot-5" / "results" / "prototype__simtex__seed1.json", "{}");
   write_figure(folder / "shot-5", accuracy_figure("Accuracy, 5 shots", "selected on test (inflated)"));
+}
+
+// Issue 70: tables came alphabetically (costs, the 130-row sessions.csv, summary.csv last) and
+// figures too (R first, accuracy per session last).
+TEST(ReportPage, ShowsTheSummaryThenAccuracyPerSessionThenCostsThenTheRest) {
+  const TemporaryDirectory temporary;
+  const fs::path folder = temporary.path();
+  for (const char* table : {"costs.csv", "sessions.csv", "summary.csv", "ablation.csv", "context_analysis.csv"}) {
+    write_file_atomically(folder / table, "method,AA\nprototype,70\n");
+  }
+  for (const char* name : {"context_ratio_simtex", "efficiency_simtex_flops", "sessions_simtex_novel", "sessions_simtex_all",
+                           "sessions_simtex_harmonic", "sessions_simtex_base"}) {
+    Figure figure = accuracy_figure(name);
+    figure.name = name;
+    write_figure(folder, figure);
+  }
+  const std::string page = render_report_page(folder);
+  std::vector<std::size_t> places;
+  for (const char* shown : {"<h3><a href=\"summary.csv\">", "<h3><a href=\"ablation.csv\">", "alt=\"sessions_simtex_all\"",
+                            "alt=\"sessions_simtex_base\"", "alt=\"sessions_simtex_novel\"",
+                            "alt=\"sessions_simtex_harmonic\"", "<h3><a href=\"costs.csv\">",
+                            "alt=\"efficiency_simtex_flops\"", "alt=\"context_ratio_simtex\"",
+                            "<h3><a href=\"context_analysis.csv\">", "<h3><a href=\"sessions.csv\">"}) {
+    places.push_back(page.find(shown));
+    EXPECT_NE(places.back(), std::string::npos) << shown;
+  }
+  EXPECT_TRUE(std::is_sorted(places.begin(), places.end())) << page;
 }
 
 TEST(ReportPage, LinksEveryTableAndFigureAndNothingElse) {
