@@ -14,7 +14,7 @@ namespace fscil {
 
 namespace {
 SeedStatistic statistic_of(const std::vector<double>& values) {
-  return {mean_of(values), standard_deviation_of(values), confidence_half_width_95(values)};
+  return {mean_of(values), standard_deviation_of(values), confidence_half_width_95(values), values};
 }
 
 // The base session's stages as the run logged them; none for a run without sessions.

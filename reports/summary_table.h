@@ -15,6 +15,7 @@ struct SeedStatistic {
   double mean = 0;
   double std = 0;
   double ci95 = 0;
+  std::vector<double> values;  // per seed, in the order of the row's seeds: what paired tests compare
 };
 
 // One (method, dataset) row: per-session accuracy and AA/PD/ADR over its seeds. AA/PD/ADR are

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 
+#include "metrics/statistics.h"
 #include "reports/latex_text.h"
 #include "reports/summary_table.h"
 
@@ -25,11 +27,13 @@ std::vector<const SummaryRow*> rows_of(const SummaryTable& table, const std::str
   return rows;
 }
 
-// The columns of the paper's tables, each with the direction that is better.
+// The columns of the paper's tables, each with the direction that is better and the range its
+// values can take (an interval is clipped to it).
 struct Column {
   std::string title;
   std::function<const SeedStatistic*(const SummaryRow&)> value;
   bool higher_is_better;
+  double low = -HUGE_VAL, high = HUGE_VAL;
 };
 
 std::vector<Column> paper_columns(std::size_t sessions) {
@@ -39,36 +43,88 @@ std::vector<Column> paper_columns(std::size_t sessions) {
                        [s](const SummaryRow& row) {
                          return s < row.session_accuracy.size() ? &row.session_accuracy[s] : nullptr;
                        },
-                       true});
+                       true, 0, 100});
   }
-  columns.push_back({"PD", [](const SummaryRow& row) { return &row.performance_drop; }, false});
-  columns.push_back({"AA", [](const SummaryRow& row) { return &row.average_accuracy; }, true});
-  columns.push_back({"ADR", [](const SummaryRow& row) { return &row.average_drop_rate; }, false});
+  columns.push_back({"PD", [](const SummaryRow& row) { return &row.performance_drop; }, false, -100, 100});
+  columns.push_back({"AA", [](const SummaryRow& row) { return &row.average_accuracy; }, true, 0, 100});
+  columns.push_back({"ADR", [](const SummaryRow& row) { return &row.average_drop_rate; }, false, -HUGE_VAL, 100});
   return columns;
 }
 
-// Best means after rounding to the two decimals shown, so ties are all marked; among honest rows
-// only (epochs chosen on test are never best).
-bool is_best(const Column& column, const SummaryRow& row, const std::vector<const SummaryRow*>& rows) {
-  const SeedStatistic* mine = column.value(row);
-  if (mine == nullptr || rows.size() < 2 || row.selection == "test-oracle") return false;
-  const double shown = std::round(mine->mean * 100);
-  for (const auto* other : rows) {
-    const SeedStatistic* theirs = column.value(*other);
-    if (theirs == nullptr || other->selection == "test-oracle") continue;
-    const double value = std::round(theirs->mean * 100);
-    if (column.higher_is_better ? value > shown : value < shown) return false;
+// The values of `a` and `b` on the seeds both rows ran, paired by seed.
+std::pair<std::vector<double>, std::vector<double>> paired_values(const SummaryRow& a, const SeedStatistic& of_a,
+                                                                  const SummaryRow& b, const SeedStatistic& of_b) {
+  std::pair<std::vector<double>, std::vector<double>> pairs;
+  for (std::size_t i = 0; i < a.seeds.size() && i < of_a.values.size(); ++i) {
+    const auto j = std::find(b.seeds.begin(), b.seeds.end(), a.seeds[i]) - b.seeds.begin();
+    if (static_cast<std::size_t>(j) >= of_b.values.size()) continue;
+    pairs.first.push_back(of_a.values[i]);
+    pairs.second.push_back(of_b.values[j]);
   }
-  return true;
+  return pairs;
 }
 
-// mean, or over several seeds "mean ± std [95% CI]"; `interval` wraps the bracketed interval.
-std::string cell(const SeedStatistic* statistic, bool with_std, const char* plus_minus,
+// Which rows of a column are bold. The best mean (after rounding to the two decimals shown, so
+// ties are all bold; among honest rows only: epochs chosen on test are never best), and every
+// row a paired t-test over the seeds both ran cannot separate from it (two-sided, Holm-corrected
+// over the column's rows, 0.05): "best" says only what the seeds support. A row with fewer than
+// kFewestSeedsForInference seeds in common with the best is not tested, and stays plain unless
+// its mean ties the best's.
+std::vector<bool> bold_rows(const Column& column, const std::vector<const SummaryRow*>& rows) {
+  std::vector<bool> bold(rows.size(), false);
+  if (rows.size() < 2) return bold;
+  std::optional<double> best;
+  for (const auto* row : rows) {
+    const SeedStatistic* value = column.value(*row);
+    if (value == nullptr || row->selection == "test-oracle") continue;
+    const double shown = std::round(value->mean * 100);
+    if (!best || (column.higher_is_better ? shown > *best : shown < *best)) best = shown;
+  }
+  if (!best) return bold;
+  std::size_t leader = rows.size();
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const SeedStatistic* value = column.value(*rows[r]);
+    if (value == nullptr || rows[r]->selection == "test-oracle") continue;
+    bold[r] = std::round(value->mean * 100) == *best;
+    if (bold[r] && leader == rows.size()) leader = r;
+  }
+  std::vector<std::size_t> tested;
+  std::vector<double> p;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const SeedStatistic* value = column.value(*rows[r]);
+    if (bold[r] || value == nullptr || rows[r]->selection == "test-oracle") continue;
+    const auto [mine, theirs] = paired_values(*rows[r], *value, *rows[leader], *column.value(*rows[leader]));
+    if (static_cast<int>(mine.size()) < kFewestSeedsForInference) continue;
+    tested.push_back(r);
+    p.push_back(paired_t_test_p(mine, theirs));
+  }
+  const std::vector<double> adjusted = holm_adjusted(p);
+  for (std::size_t i = 0; i < tested.size(); ++i) bold[tested[i]] = !(adjusted[i] < 0.05);
+  return bold;
+}
+
+// mean, or over several seeds "mean ± std", with its 95% confidence interval, clipped to what the
+// column can take, from kFewestSeedsForInference seeds; `interval` wraps the bracketed interval.
+std::string cell(const SeedStatistic* statistic, const Column& column, bool with_std, const char* plus_minus,
                  const char* interval = "[{:.2f}, {:.2f}]") {
   if (statistic == nullptr) return "";
   if (!with_std) return fmt::format("{:.2f}", statistic->mean);
-  return fmt::format("{:.2f}{}{:.2f} ", statistic->mean, plus_minus, statistic->std) +
-         fmt::format(fmt::runtime(interval), statistic->mean - statistic->ci95, statistic->mean + statistic->ci95);
+  std::string text = fmt::format("{:.2f}{}{:.2f}", statistic->mean, plus_minus, statistic->std);
+  if (static_cast<int>(statistic->values.size()) < kFewestSeedsForInference) return text;
+  return text + " " + fmt::format(fmt::runtime(interval), std::max(column.low, statistic->mean - statistic->ci95),
+                                  std::min(column.high, statistic->mean + statistic->ci95));
+}
+
+// What the table's bold and brackets mean, for the line under it.
+std::string statistics_note(bool with_std) {
+  if (!with_std) {
+    return "Bold: the best mean. One seed: nothing here separates two methods beyond this run.";
+  }
+  return fmt::format("Mean ± standard deviation over seeds; in brackets the 95% confidence interval of the mean "
+                     "(Student t), clipped to the metric's range, for rows of {0} seeds or more. Bold: the best mean "
+                     "and every row a paired t-test across the seeds both ran cannot separate from it (two-sided, "
+                     "Holm-corrected over the column, 0.05); rows of fewer than {0} seeds in common with the best are "
+                     "not tested and bold only where their mean ties it.", kFewestSeedsForInference);
 }
 
 // A row whose base training was still rising, or did not learn, is marked; its footnote says how.
@@ -120,10 +176,14 @@ std::string render_csv(const SummaryTable& table) {
       for (std::size_t s = 0; s < sessions; ++s) {
         out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].std) : ",";
       }
-      out += fmt::format(",{:.4f},{:.4f},{:.4f}", row->average_accuracy.ci95, row->performance_drop.ci95,
-                         row->average_drop_rate.ci95);
+      // An interval from fewer seeds says nothing: left empty.
+      const bool inferred = static_cast<int>(row->seeds.size()) >= kFewestSeedsForInference;
+      const auto ci95 = [&](const SeedStatistic& statistic) {
+        return inferred ? fmt::format(",{:.4f}", statistic.ci95) : std::string(",");
+      };
+      out += ci95(row->average_accuracy) + ci95(row->performance_drop) + ci95(row->average_drop_rate);
       for (std::size_t s = 0; s < sessions; ++s) {
-        out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].ci95) : ",";
+        out += s < row->session_accuracy.size() ? ci95(row->session_accuracy[s]) : ",";
       }
     }
     out += fmt::format(",{}\n", verdict_name(row->training));
@@ -140,8 +200,7 @@ std::string render_latex(const SummaryTable& table, const std::string& what) {
     const std::size_t sessions = columns.size() - 3;
     out += "\\begin{table*}[!t]\n\\centering\n";
     out += fmt::format("\\caption{{{} on {}, {} split{}{}.}}\n", latex_text(what), latex_text(dataset), table.evaluated_on,
-                       table.precision_note(),
-                       with_std ? " (mean $\\pm$ std over seeds, [95\\% confidence interval, Student t])" : "");
+                       table.precision_note(), with_std ? " (mean $\\pm$ std over seeds)" : "");
     const auto grid_keys = table.grid_keys();
     out += fmt::format("\\begin{{tabular}}{{{}l{}ccc}}\n\\toprule\n", std::string(grid_keys.size(), 'l'),
                        std::string(sessions, 'c'));
@@ -155,16 +214,21 @@ std::string render_latex(const SummaryTable& table, const std::string& what) {
     for (std::size_t k = 0; k < grid_keys.size(); ++k) out += "&";
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(" & {}", s);
     out += " & & & \\\\\n\\midrule\n";
-    for (const auto* row : rows) {
+    std::vector<std::vector<bool>> bold;
+    for (const auto& column : columns) bold.push_back(bold_rows(column, rows));
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const SummaryRow* row = rows[r];
       for (const auto& key : grid_keys) out += latex_text(cell_value(*row, key)) + " & ";
       out += latex_text(row_label(*row)) + marked_label_suffix(*row, "$^\\dagger$");
-      for (const auto& column : columns) {
-        const std::string text = cell(column.value(*row), with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
-        out += is_best(column, *row, rows) ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        const std::string text =
+            cell(columns[c].value(*row), columns[c], with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
+        out += bold[c][r] ? fmt::format(" & \\textbf{{{}}}", text) : fmt::format(" & {}", text);
       }
       out += " \\\\\n";
     }
     out += "\\bottomrule\n\\end{tabular}\n";
+    out += fmt::format("\\par\\footnotesize {}\n", latex_text(statistics_note(with_std)));
     if (const auto notes = unfinished_notes(rows); !notes.empty()) {
       out += fmt::format("\\par\\footnotesize $^\\dagger$ {}: {}.\n", latex_text(kUnfinishedNote),
                          latex_text(fmt::format("{}", fmt::join(notes, "; "))));
@@ -181,7 +245,8 @@ std::string render_markdown(const SummaryTable& table) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
     const auto grid_keys = table.grid_keys();
-    out += fmt::format("### {}, {} split{}{}\n\n|", dataset, table.evaluated_on, table.precision_note(), with_std ? " (mean ± std over seeds [95% confidence interval, Student t])" : "");
+    out += fmt::format("### {}, {} split{}{}\n\n|", dataset, table.evaluated_on, table.precision_note(),
+                       with_std ? " (mean ± std over seeds)" : "");
     for (const auto& key : grid_keys) out += fmt::format(" {} |", key);
     out += " method |";
     for (const auto& column : columns) out += fmt::format(" {} |", column.title);
@@ -190,17 +255,20 @@ std::string render_markdown(const SummaryTable& table) {
     out += "---|";
     for (std::size_t c = 0; c < columns.size(); ++c) out += "---:|";
     out += "\n";
-    for (const auto* row : rows) {
+    std::vector<std::vector<bool>> bold;
+    for (const auto& column : columns) bold.push_back(bold_rows(column, rows));
+    for (std::size_t r = 0; r < rows.size(); ++r) {
+      const SummaryRow* row = rows[r];
       out += "|";
       for (const auto& key : grid_keys) out += fmt::format(" {} |", cell_value(*row, key));
       out += fmt::format(" {}{} |", row_label(*row), marked_label_suffix(*row, " †"));
-      for (const auto& column : columns) {
-        const std::string text = cell(column.value(*row), with_std, " ± ");
-        out += is_best(column, *row, rows) ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);
+      for (std::size_t c = 0; c < columns.size(); ++c) {
+        const std::string text = cell(columns[c].value(*row), columns[c], with_std, " ± ");
+        out += bold[c][r] ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);
       }
       out += "\n";
     }
-    out += "\n";
+    out += "\n" + statistics_note(with_std) + "\n\n";
     if (const auto notes = unfinished_notes(rows); !notes.empty()) {
       out += fmt::format("† {}:\n", kUnfinishedNote);
       for (const auto& note : notes) out += fmt::format("- {}\n", note);

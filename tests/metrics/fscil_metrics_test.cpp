@@ -76,6 +76,20 @@ TEST(Statistics, StudentTQuantilesAndConfidenceIntervals) {
   EXPECT_EQ(confidence_half_width_95({7}), 0.0);
 }
 
+TEST(Statistics, PairedTTestAndHolmsAdjustment) {
+  // The tabulated quantiles are where the two-sided p is 0.05.
+  EXPECT_NEAR(student_t_two_sided_p(12.7062, 1), 0.05, 1e-5);
+  EXPECT_NEAR(student_t_two_sided_p(-2.7764, 4), 0.05, 1e-5);
+  EXPECT_NEAR(student_t_two_sided_p(0, 3), 1.0, 1e-12);
+  EXPECT_NEAR(student_t_two_sided_p(1.0, 1), 0.5, 1e-9);  // Cauchy: P(|T| > 1) = 1/2
+  // Differences 1, -1, 2: mean 2/3, s = 1.5275, t = 0.7559 with 2 degrees of freedom.
+  EXPECT_NEAR(paired_t_test_p({80, 82, 78}, {79, 83, 76}), 0.5286, 1e-4);
+  EXPECT_EQ(paired_t_test_p({80, 82, 78}, {70, 72, 68}), 0.0) << "the same difference in every seed";
+  EXPECT_EQ(paired_t_test_p({80, 82}, {80, 82}), 1.0);
+  EXPECT_TRUE(std::isnan(paired_t_test_p({80}, {70})));
+  EXPECT_EQ(holm_adjusted({0.01, 0.04, 0.03}), (std::vector<double>{0.03, 0.06, 0.06}));
+}
+
 TEST(SessionAccuracy, SplitsBaseNovelAndCurrentClasses) {
   // base classes 0..1, this session added classes 4..5
   const std::vector<std::int64_t> labels = {0, 0, 1, 2, 3, 4, 5, 5};

@@ -381,8 +381,12 @@ TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string header = csv.substr(0, csv.find('\n'));
   EXPECT_EQ(header, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
                     "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95,training");
-  EXPECT_NE(csv.find(",63.5310,63.5310,not recorded\n"), std::string::npos) << csv;  // 12.7062 x 7.0711 / 1.4142
+  // Two seeds: no confidence interval (its t quantile is 12.7: it would say nothing).
+  EXPECT_NE(csv.find(",7.0711,7.0711,,,,,,not recorded\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find("prototype,simtex,test,last,fp32,1 2,80.0000,10.0000,"), std::string::npos);
+  const std::string three = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70}),
+                                                       record_of("prototype", 3, {85, 75})}));
+  EXPECT_NE(three.find(",12.4208,12.4208,not recorded\n"), std::string::npos) << three;  // 4.3027 x 5 / sqrt(3)
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
   EXPECT_EQ(single, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
                     "prototype,simtex,test,last,fp32,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded\n");
@@ -504,6 +508,34 @@ TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| method | 0 | 1 | PD | AA | ADR |"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("| pits-sc | **95.00** | 65.00 | 30.00 | **80.00** |"), std::string::npos) << markdown;
+}
+
+// Issue 70: with two seeds every cell read "42.00 ± 31.11 [-237.54, 321.54]", bold, unclipped.
+TEST(SummaryTable, BoldIsTheBestAndWhatAPairedTestCannotSeparateFromIt) {
+  std::vector<RunRecord> runs;
+  const auto add = [&](const char* method, std::vector<double> aa) {
+    for (std::size_t s = 0; s < aa.size(); ++s) runs.push_back(record_of(method, s + 1, {aa[s], aa[s]}));
+  };
+  add("cop-fscil", {80, 82, 78});
+  add("pits-sc", {79, 83, 76});    // differences 1, -1, 2: p = 0.53, not separable
+  add("prototype", {70, 72, 68});  // 10 below in every seed: separable
+  add("orco", {81, 75});           // two seeds: not tested, and its mean is below the best
+  const std::string markdown = render_markdown(summarize_runs(runs));
+  SCOPED_TRACE(markdown);
+  EXPECT_NE(markdown.find("| cop-fscil | **80.00 ± 2.00 [75.03, 84.97]** |"), std::string::npos);
+  EXPECT_NE(markdown.find("| pits-sc | **79.33 ± 3.51 [70.61, 88.06]** |"), std::string::npos);
+  EXPECT_NE(markdown.find("| prototype | 70.00 ± 2.00 [65.03, 74.97] |"), std::string::npos);
+  EXPECT_NE(markdown.find("| orco | 78.00 ± 4.24 |"), std::string::npos) << "two seeds: no interval";
+  EXPECT_NE(markdown.find("paired t-test"), std::string::npos);
+  EXPECT_NE(markdown.find("Holm"), std::string::npos);
+  const std::string latex = render_latex(summarize_runs(runs));
+  EXPECT_NE(latex.find("pits-sc & \\textbf{79.33$\\pm$3.51 {\\scriptsize[70.61, 88.06]}}"), std::string::npos) << latex;
+}
+
+TEST(SummaryTable, AnIntervalIsClippedToWhatTheMetricCanTake) {
+  const std::string markdown = render_markdown(summarize_runs(
+      {record_of("prototype", 1, {100, 100}), record_of("prototype", 2, {99, 99}), record_of("prototype", 3, {100, 100})}));
+  EXPECT_NE(markdown.find("| prototype | 99.67 ± 0.58 [98.23, 100.00] |"), std::string::npos) << markdown;
 }
 
 TEST(SummaryTable, LatexEscapesNamesAndResultFilesRefuseNamesNoTableCanHold) {
