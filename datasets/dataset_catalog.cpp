@@ -274,8 +274,14 @@ PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& r
   for (const auto& entry : kRealDatasets) {
     if (name == entry.name) return build_real(entry, request, params, log);
   }
+  require_dataset_name(name);
+  throw DatasetError(fmt::format("dataset '{}' has no builder", name));
+}
+
+void require_dataset_name(const std::string& name) {
   std::vector<std::string> names;
   for (const auto& entry : dataset_catalog()) names.push_back(entry.name);
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
   throw DatasetError(fmt::format("unknown dataset '{}': expected one of {}", name, fmt::join(names, ", ")));
 }
 

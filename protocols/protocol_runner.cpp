@@ -233,9 +233,11 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     }
     outcome.test_seconds = test_clock.seconds();
     if (context.progress != nullptr) {
-      std::string line = fmt::format("session {} accuracy {:.2f}% (base {:.2f}%, novel {:.2f}%) on {} {} samples",
-                                     session, outcome.accuracy.all, outcome.accuracy.base, outcome.accuracy.novel,
-                                     outcome.accuracy.samples, to_string(scored));
+      // Session 0 has no novel classes: no novel accuracy to print.
+      const std::string novel = session == 0 ? "" : fmt::format(", novel {:.2f}%", outcome.accuracy.novel);
+      std::string line = fmt::format("session {} accuracy {:.2f}% (base {:.2f}%{}) on {} {} samples", session,
+                                     outcome.accuracy.all, outcome.accuracy.base, novel, outcome.accuracy.samples,
+                                     to_string(scored));
       if (!segment_contexts.empty()) {
         line += fmt::format(", context ratio R mean {:.3f} max {:.3f}", outcome.context_ratio_mean, outcome.context_ratio_max);
       }

@@ -97,7 +97,12 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   TemporaryDirectory out;
   const std::string common = " --quiet --no-cache --out " + out.path().string();
   expect_one_error_line(run_cli("--methods nosuch --dataset simtex-mini" + common), "unknown method 'nosuch'");
-  expect_one_error_line(run_cli("--methods prototype --dataset nosuch" + common), "unknown dataset 'nosuch'");
+  const CommandResult no_such_data = run_cli("--methods prototype --dataset nosuch --no-cache --out " + out.path().string());
+  expect_one_error_line(no_such_data, "unknown dataset 'nosuch'");
+  EXPECT_EQ(no_such_data.output.find("preparing dataset"), std::string::npos) << "no progress before the refusal";
+  // A subcommand's missing argument points at that subcommand's help.
+  expect_one_error_line(run_cli("report"), "--results is required (try: fscil-bench report --help)");
+  expect_one_error_line(run_cli("sweep --grid"), "(try: fscil-bench sweep --help)");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --profile turbo" + common),
                         "unknown profile 'turbo'");
   // A malformed option is a usage error (exit 2) whenever it is found, as CLI11's own are.

@@ -36,6 +36,10 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
             std::string::npos) << csv;
   EXPECT_NE(csv.find("haptex,cop-fscil,ours-paper,no,HapTex,results_haptex,CoP-FSCIL,-9.00,-9.00,-6.00,-3.00,-8.00,"),
             std::string::npos) << csv;
+  // Our rows of the simulator are simulated; the paper's own beside them are not.
+  EXPECT_NE(csv.find("simtex,cop-fscil/cpi,ours,yes,HapTex,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("simtex,cop-fscil/cpi,paper,no,HapTex,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("simtex,cop-fscil/cpi,ours-paper,yes,HapTex,"), std::string::npos) << csv;
   const std::string markdown = render_paper_comparison_markdown(rows);
   EXPECT_NE(markdown.find("cop-fscil/cpi on simtex (simulated HapTex)"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("our data are simulated, the paper's real"), std::string::npos);

@@ -77,6 +77,12 @@ std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
   return text;
 }
 
+// Where to read what was mistyped: the help of the subcommand given, or the program's.
+std::string help_hint(const CLI::App& app) {
+  const auto given = app.get_subcommands();
+  return fmt::format(" (try: fscil-bench{} --help)", given.empty() ? "" : " " + given.front()->get_name());
+}
+
 // argv with a --config file's options merged in (config_file.h), then parsed.
 void parse(CLI::App& app, int argc, char** argv) {
   std::vector<std::string> arguments(argv, argv + argc);
@@ -105,7 +111,7 @@ void parse(CLI::App& app, int argc, char** argv) {
         throw CliError(fmt::format("--config {}: \"{}\"{}", config, key, message.substr(option.size())));
       }
     }
-    throw CliError(message + " (try: fscil-bench --help)");
+    throw CliError(message + help_hint(app));
   }
 }
 
@@ -206,7 +212,7 @@ int run_subcommand(int argc, char** argv) {
     return stop.status();
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) return app.exit(error);  // --help, --help-all
-    print_error(error.what(), " (try: fscil-bench --help)");
+    print_error(error.what(), help_hint(app).c_str());
     return exit_status::usage;
   } catch (const Error& error) {
     print_error(error.what());

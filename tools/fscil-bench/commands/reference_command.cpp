@@ -2,14 +2,34 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
+#include <optional>
+
 #include "core/atomic_file.h"
 #include "reports/reference_numbers.h"
 #include "core/error.h"
 #include "reports/run_record.h"
 #include "reports/summary_table.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
+#include "tools/fscil-bench/options/data_folder.h"
 
 namespace fscil {
+
+namespace {
+
+// How `reference` is made again: the repository's own files by their script, a user's by the
+// command that wrote it (its tolerance where known).
+std::string regenerate_command(const std::string& results, const std::string& reference,
+                               std::optional<double> tolerance = std::nullopt) {
+  std::error_code error;
+  const auto own = std::filesystem::weakly_canonical(reference_file(""), error);
+  const auto file = std::filesystem::weakly_canonical(reference, error);
+  if (!error && file.parent_path() == own.parent_path()) return kRegenerateReferences;
+  return fmt::format("fscil-bench reference --results {} --out {}{}", results, reference,
+                     tolerance ? fmt::format(" --tolerance {}", *tolerance) : std::string());
+}
+
+}  // namespace
 
 void write_reference(const std::string& results, const std::string& out, double tolerance) {
   if (!(tolerance >= 0)) throw ReportError(fmt::format("--tolerance {}: expected a value >= 0", tolerance));
@@ -17,7 +37,7 @@ void write_reference(const std::string& results, const std::string& out, double 
   require_replaceable(out);
   if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));
   const auto values = reference_values_of(records, tolerance);
-  write_file_atomically(out, render_reference_csv(values, kRegenerateReferences));
+  write_file_atomically(out, render_reference_csv(values, regenerate_command(results, out, tolerance)));
   fmt::print("{} reference values of {} runs written to {}\n", values.size(), records.size(), out);
 }
 
@@ -32,7 +52,8 @@ int check_reference(const std::string& results, const std::string& reference) {
     return 0;
   }
   fmt::print("{} failures, {} of {} reference values compared; if a changed value is intended, regenerate with: {}\n",
-             check.failures.size(), check.values_checked, expected.size(), kRegenerateReferences);
+             check.failures.size(), check.values_checked, expected.size(),
+             regenerate_command(results, reference));
   return 1;
 }
 

@@ -269,6 +269,7 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   request.threads = plan.threads;
   request.features = parse_feature_storage(options.features);
   plan.dataset_params = plan.params;
+  require_dataset_name(options.dataset);  // before a line says it is being prepared
   progress.stage(fmt::format("preparing dataset {}", options.dataset));
   Stopwatch dataset_clock;
   plan.dataset = prepare_dataset(options.dataset, request, plan.dataset_params, std::cerr);
