@@ -239,7 +239,8 @@ void PitsScMethod::learn_session(const SessionData& support, RunContext& context
 }
 
 MethodState PitsScMethod::save_state() const {
-  MethodState state{{"seen_classes", torch::tensor(seen_classes_)}, {"stored_means", stored_means_.clone()}};
+  // "seen_classes.count", as every method whose counter is a module names it.
+  MethodState state{{"seen_classes.count", torch::tensor(seen_classes_)}, {"stored_means", stored_means_.clone()}};
   put_module(state, "encoder.", *encoder_);
   put_module(state, "classifier.", *classifier_);
   return state;
@@ -250,7 +251,8 @@ void PitsScMethod::restore_state(const MethodState& state, RunContext& context) 
   take_module(state, "encoder.", *encoder_);
   take_module(state, "classifier.", *classifier_);
   stored_means_ = take(state, "stored_means").clone();
-  seen_classes_ = take(state, "seen_classes").item<std::int64_t>();
+  // Checkpoints and cached stages written before the name followed the rule say "seen_classes".
+  seen_classes_ = take(state, state.count("seen_classes") > 0 ? "seen_classes" : "seen_classes.count").item<std::int64_t>();
 }
 
 torch::Tensor PitsScMethod::embed(const torch::Tensor& features) { return embed_in_batches(encoder_, features); }

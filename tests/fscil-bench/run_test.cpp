@@ -357,17 +357,18 @@ TEST(Cli, SaveModelKeepsEachRunsStateForPythonsTorchLoad) {
   if (std::system(FSCIL_PYTHON " -c 'import torch' > /dev/null 2>&1") != 0) {
     GTEST_SKIP() << FSCIL_PYTHON << " has no torch (Debian python3-torch, installed by tools/bootstrap.sh)";
   }
-  FILE* pipe = ::popen((std::string(FSCIL_PYTHON) + " -c \"import torch, sys; d = torch.load(sys.argv[1]); "
+  FILE* pipe = ::popen((std::string(FSCIL_PYTHON) + " -c \"import torch, sys; m = torch.load(sys.argv[1]); d = m['state']; "
                         "print(len(d), int(d['seen_classes.count']), tuple(d['encoder.conv1.weight'].shape), "
-                        "all(isinstance(v, torch.Tensor) for v in d.values()))\" " + model.string() + " 2>&1").c_str(), "r");
+                        "all(isinstance(v, torch.Tensor) for v in d.values()), m['metadata']['method'], "
+                        "m['metadata']['input_shape'], len(m['metadata']['class_order']))\" " + model.string() + " 2>&1").c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;
   char buffer[512];
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
   ASSERT_EQ(::pclose(pipe), 0) << output;
   // 127 tensors (ResNet-18 and the classifier); simtex-mini's 20 classes all seen; the 7 x 7 stem
-  // over its 5 channels.
-  EXPECT_EQ(output, "127 20 (64, 5, 7, 7) True\n");
+  // over its 5 channels; what the model is, its 5 x 64 x 24 input and the class of each output.
+  EXPECT_EQ(output, "127 20 (64, 5, 7, 7) True prototype [5, 64, 24] 20\n");
 }
 
 }  // namespace

@@ -547,7 +547,8 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
 }
 
 // Step 4: the sessions (from where the base left off), and what the run keeps of them on disk.
-std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const CommandPlan& plan, RunInProgress& run) {
+std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const CommandPlan& plan, const std::string& commit,
+                                             RunInProgress& run) {
   const SessionSchedule& schedule = plan.schedules[run.schedule];
   SavedEmbeddings saved_embeddings;
   ScoredEmbeddingSink keep_embeddings;
@@ -571,7 +572,13 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
                            schedule.plan.base_classes);
   }
   if (options.save_model) {
-    save_model(fs::path(options.out) / "models" / fs::path(file_name).replace_extension(".pt"), run.method->save_state());
+    SavedModelMetadata about{run.method_name, options.dataset, run.identity, commit, run.seed,
+                             {plan.input.channels, plan.input.mel_bins, plan.input.frames}, {}};
+    for (const int dataset_class : schedule.plan.class_order) {
+      about.class_order.push_back(plan.dataset.description.class_names.at(static_cast<std::size_t>(dataset_class)));
+    }
+    save_model(fs::path(options.out) / "models" / fs::path(file_name).replace_extension(".pt"),
+               {run.method->save_state(), about});
   }
   return outcomes;
 }
@@ -658,7 +665,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
   run.context.stages = run.stages.get();
   choose_base(options, plan, runs, run, progress);
   checkpoint_after_each_session(runs, run, progress);
-  const auto outcomes = run_the_sessions(options, plan, run);
+  const auto outcomes = run_the_sessions(options, plan, runs.commit, run);
   record_run(options, plan, runs, run, outcomes);
 }
 
