@@ -100,10 +100,12 @@ std::string render_cost_csv(const std::vector<CostRow>& rows) {
 }
 
 std::string render_cost_latex(const std::vector<CostRow>& rows) {
-  std::string out = "% fscil-bench costs; requires \\usepackage{booktabs}\n\\begin{table}[!t]\n\\centering\n"
+  // Eleven columns: the page's width (table*), scaled to it.
+  std::string out = "% fscil-bench costs; requires \\usepackage{booktabs,graphicx}\n\\begin{table*}[!t]\n\\centering\n"
                     "\\caption{Cost of each method: FLOPs = 2 $\\times$ MACs per sample at inference, NP = parameters, IT = "
                     "inference time per sample (times: means over seeds; memory: largest).}\n";
-  out += fmt::format("\\begin{{tabular}}{{ll{}}}\n\\toprule\nMethod & Dataset", std::string(columns().size(), 'r'));
+  out += fmt::format("\\resizebox{{\\textwidth}}{{!}}{{\\begin{{tabular}}{{ll{}}}\n\\toprule\nMethod & Dataset",
+                     std::string(columns().size(), 'r'));
   for (const auto& column : columns()) out += fmt::format(" & {}", column.title);
   out += " \\\\\n\\midrule\n";
   for (const auto& row : rows) {
@@ -111,7 +113,7 @@ std::string render_cost_latex(const std::vector<CostRow>& rows) {
     for (const auto& column : columns()) out += " & " + column.text(row);
     out += " \\\\\n";
   }
-  return out + "\\bottomrule\n\\end{tabular}\n\\end{table}\n";
+  return out + "\\bottomrule\n\\end{tabular}}\n\\end{table*}\n";
 }
 
 std::string render_cost_markdown(const std::vector<CostRow>& rows) {

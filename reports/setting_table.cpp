@@ -163,7 +163,7 @@ std::string render_setting_latex(const SettingTable& table) {
                      latex_text(table.caption), latex_text(table.method), latex_text(table.dataset));
   out += fmt::format("\\begin{{tabular}}{{l{}}}\n\\toprule\nSetting", std::string(metrics.size(), 'c'));
   for (const auto& metric : metrics) {
-    const std::string name = metric.name == std::string("Acc0") ? "$\\text{Acc}_{0}$" : latex_text(metric.name);
+    const std::string name = metric.name == std::string("Acc0") ? "$\\mathrm{Acc}_{0}$" : latex_text(metric.name);
     out += fmt::format(" & {}{}", name, metric.higher_is_better ? "$\\uparrow$" : "$\\downarrow$");
   }
   out += " \\\\\n\\midrule\n";

@@ -24,6 +24,7 @@ packages=(
   slurm-wlm munge  # the Slurm tests: tools/slurm_local.sh runs a single-node cluster from them
   help2man  # the man page, from --help-all
   python3-torch python3-h5py  # tests that read a saved model and our HDF5 files from Python
+  texlive-latex-base texlive-latex-recommended texlive-pictures  # the LaTeX test: every .tex compiles
 )
 
 install_missing_packages "${packages[@]}"

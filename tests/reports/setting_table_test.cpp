@@ -154,7 +154,7 @@ TEST(SettingTable, MarkdownAndLatexBoldTheBestHonestRowAndLabelTheOracleRow) {
             "| pic_weight=2 | 90.00 | 27.00 | 76.50 | 30.00 |\n\n");
   const std::string latex = render_setting_latex(table);
   EXPECT_NE(latex.find("\\caption{Sensitivity of lambda (cop-fscil on simtex; the paper's numbers in brackets where it "
-                       "gives them).}\n\\begin{tabular}{lcccc}\n\\toprule\nSetting & $\\text{Acc}_{0}$$\\uparrow$ & "
+                       "gives them).}\n\\begin{tabular}{lcccc}\n\\toprule\nSetting & $\\mathrm{Acc}_{0}$$\\uparrow$ & "
                        "PD$\\downarrow$ & AA$\\uparrow$ & ADR$\\downarrow$ \\\\\n\\midrule\n"),
             std::string::npos)
       << latex;
