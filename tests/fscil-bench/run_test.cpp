@@ -83,6 +83,18 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   EXPECT_EQ(rows, 3);
 }
 
+// Issue 70: an ETA per stage, none for the command.
+TEST(Cli, ACommandSaysAfterEachRunHowManyAreDoneAndWhyItCannotSayHowLongIsLeftWithoutRates) {
+  TemporaryDirectory out;
+  const CommandResult run = run_cli("--methods prototype --seeds 1-2 --dataset simtex-mini --profile smoke --threads 1 "
+                                    "--no-cache --out " + out.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("[fscil-bench]   1 of 2 runs done in 0:00:"), std::string::npos) << run.output;
+  // Without a cache there are no stored rates, and a run never calibrates for its progress line.
+  EXPECT_NE(run.output.find("(no time to go: `fscil-bench plan` once stores this machine's rates)"), std::string::npos);
+  EXPECT_NE(run.output.find("[fscil-bench]   2 of 2 runs done in 0:00:"), std::string::npos);
+}
+
 TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   TemporaryDirectory together, alone;
   const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out ";

@@ -102,17 +102,24 @@ std::string step_rates_key(const CommandSizes& sizes) {
                      sizes.channels, sizes.mel_bins, sizes.frames, sizes.pretraining_batch);
 }
 
+std::optional<Calibration> stored_machine_rates(const CommandSizes& sizes) {
+  if (sizes.cache_dir.empty()) return std::nullopt;
+  const fs::path file = fs::path(sizes.cache_dir) / kRatesFile;
+  const nlohmann::json stored = read_rates_file(file);
+  const auto entry = stored.find(step_rates_key(sizes));
+  if (entry == stored.end()) return std::nullopt;
+  const auto rates = stored_rates(*entry);
+  if (!rates) return std::nullopt;
+  const std::string when = entry->value("measured", std::string("before dates were kept"));
+  return Calibration{sizes, *rates, true, fmt::format("rates stored in {} (measured {}, the machine idle): {}",
+                                                      file.string(), when, rates_text(*rates))};
+}
+
 Calibration machine_rates(const CommandSizes& sizes) {
+  if (std::optional<Calibration> stored = stored_machine_rates(sizes)) return *stored;
   const std::string key = step_rates_key(sizes);
   const fs::path file = sizes.cache_dir.empty() ? fs::path() : fs::path(sizes.cache_dir) / kRatesFile;
   nlohmann::json stored = file.empty() ? nlohmann::json::object() : read_rates_file(file);
-  if (const auto entry = stored.find(key); entry != stored.end()) {
-    if (const auto rates = stored_rates(*entry)) {
-      const std::string when = entry->value("measured", std::string("before dates were kept"));
-      return {sizes, *rates, true, fmt::format("rates stored in {} (measured {}, the machine idle): {}", file.string(), when,
-                                        rates_text(*rates))};
-    }
-  }
 
   const CpuTimes before = cpu_times_now();
   const Stopwatch wall;

@@ -1,5 +1,6 @@
 #pragma once
 #include <set>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,8 @@ struct Calibration {
 // as loaded then, is used for this plan only and says so), under --no-cache, or where the folder
 // cannot be written. An entry that does not read is measured over.
 Calibration machine_rates(const CommandSizes& sizes);
+// Those rates where `step_rates.json` holds them; nothing is measured.
+std::optional<Calibration> stored_machine_rates(const CommandSizes& sizes);
 // The entry of `step_rates.json` that holds them; its leading version changes whenever what
 // measure_step_rate() times changes.
 std::string step_rates_key(const CommandSizes& sizes);

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <numeric>
 #include <optional>
 #include <set>
 
@@ -36,6 +37,7 @@
 #include "tools/fscil-bench/options/byte_size.h"
 #include "tools/fscil-bench/options/machine_info.h"
 #include "tools/fscil-bench/cells/out_folder_lock.h"
+#include "tools/fscil-bench/cells/time_estimate.h"
 #include "tools/fscil-bench/commands/report_writer.h"
 #include "tools/fscil-bench/options/seed_list.h"
 #include "core/number_text.h"
@@ -689,9 +691,9 @@ void refuse_out_folder_of_others(const RunOptions& options) {
 
 bool uses_stage_cache(const RunOptions& options) { return !options.no_cache && !options.no_stage_cache; }
 
-CommandSizes command_sizes(const RunOptions& options) {
-  ProgressReporter quiet = ProgressReporter::quiet();
-  const CommandPlan plan = plan_command(options, quiet);
+namespace {
+
+CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
   CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads, plan.precision,
                      SupervisedSchedule::from(plan.params).batch_size, {},
                      options.no_cache ? std::string() : cache_folder(options).string(), {}};
@@ -720,19 +722,65 @@ CommandSizes command_sizes(const RunOptions& options) {
   return sizes;
 }
 
+// What each run of the command should take, in its order (methods, then seeds), at the rates
+// `plan` stored for this machine and shape; empty where none are stored: a command never pays a
+// calibration for its progress line.
+std::vector<double> expected_run_seconds(const RunOptions& options, const CommandPlan& plan) {
+  const CommandSizes sizes = sizes_of(options, plan);
+  const std::optional<Calibration> stored = stored_machine_rates(sizes);
+  if (!stored) return {};
+  std::map<std::uint64_t, std::set<std::string>> trained_stages;     // per seed: shared stages trained
+  std::set<std::pair<std::string, std::uint64_t>> trained_bases;     // (shared base key, seed)
+  std::vector<double> seconds;
+  for (const std::string& name : plan.method_names) {
+    const MethodEntry& entry = method_entry(name);
+    for (const std::uint64_t seed : plan.seeds) {
+      const bool base_trained = !entry.shared_base_key.empty() && trained_bases.count({entry.shared_base_key, seed}) > 0;
+      seconds.push_back(run_seconds(entry, sizes.method_parameters.at(name), sizes.runs.at(seed), stored->rates,
+                                    base_trained, trained_stages[seed]));
+      if (!entry.shared_base_key.empty()) trained_bases.insert({entry.shared_base_key, seed});
+    }
+  }
+  return seconds;
+}
+
+// "3 of 13 runs done in 6:02; about 24:10 to go": the runs to go at plan's rates, scaled by how
+// the command has kept to them so far.
+std::string command_progress(const std::vector<double>& expected, std::size_t done, std::size_t runs, double elapsed) {
+  std::string line = fmt::format("{} of {} runs done in {}", done, runs, clock_time(elapsed));
+  if (done == runs) return line;
+  if (expected.empty()) return line + " (no time to go: `fscil-bench plan` once stores this machine's rates)";
+  const double expected_so_far = std::accumulate(expected.begin(), expected.begin() + static_cast<long>(done), 0.0);
+  const double pace = expected_so_far > 0 ? elapsed / expected_so_far : 1.0;
+  const double to_go = pace * std::accumulate(expected.begin() + static_cast<long>(done), expected.end(), 0.0);
+  return line + fmt::format("; about {} to go (plan's rates for the runs left, x{:.2f} as this command has run)",
+                            clock_time(to_go), pace);
+}
+
+}  // namespace
+
+CommandSizes command_sizes(const RunOptions& options) {
+  ProgressReporter quiet = ProgressReporter::quiet();
+  return sizes_of(options, plan_command(options, quiet));
+}
+
 std::string run_benchmark(const RunOptions& options) {
   refuse_out_folder_of_others(options);
   ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
   const CommandPlan plan = plan_command(options, progress);
   const OutFolderLock lock = claim_out_folder(options, plan);
   CommandRuns runs = start_runs(options, plan);
+  const std::size_t run_count = plan.method_names.size() * plan.seeds.size();
+  const std::vector<double> expected = options.quiet ? std::vector<double>() : expected_run_seconds(options, plan);
+  const Stopwatch command_clock;
   for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
     for (std::size_t s = 0; s < plan.seeds.size(); ++s) {
       stop_if_requested();
+      const std::size_t index = m * plan.seeds.size() + s;
       progress.stage(fmt::format("{} on {}, seed {} ({} of {} runs)", plan.method_names[m], options.dataset,
-                                 plan.seeds[s], m * plan.seeds.size() + s + 1,
-                                 plan.method_names.size() * plan.seeds.size()));
+                                 plan.seeds[s], index + 1, run_count));
       run_one(options, plan, runs, m, s, progress);
+      if (run_count > 1) progress.note(command_progress(expected, index + 1, run_count, command_clock.seconds()));
     }
   }
   if (options.cell >= 0) {
