@@ -767,6 +767,7 @@ CommandSizes command_sizes(const RunOptions& options) {
 std::string run_benchmark(const RunOptions& options) {
   refuse_out_folder_of_others(options);
   ProgressReporter progress(options.quiet ? nullptr : &std::cerr);
+  const Heartbeat heartbeat(progress, std::chrono::seconds(15));  // a long silent step is not a hang
   const CommandPlan plan = plan_command(options, progress);
   const OutFolderLock lock = claim_out_folder(options, plan);
   CommandRuns runs = start_runs(options, plan);

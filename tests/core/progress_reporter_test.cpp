@@ -1,0 +1,37 @@
+#include "core/progress_reporter.h"
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <thread>
+
+namespace fscil {
+namespace {
+
+std::size_t occurrences(const std::string& text, const std::string& part) {
+  std::size_t count = 0;
+  for (auto at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+// Issue 70: a session of `reproduce nps` at N_ps = 1000 printed nothing for 27 s.
+TEST(ProgressReporter, AHeartbeatSpeaksOnlyAfterItsSilence) {
+  std::ostringstream out;
+  ProgressReporter progress(&out);
+  {
+    const Heartbeat heartbeat(progress, std::chrono::seconds(2));
+    progress.stage("cop-fscil on simtex, seed 1 (1 of 1 runs)");
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    progress.note("session 0 accuracy 80.00%");  // said within its silence: no heartbeat yet
+    std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+    EXPECT_EQ(occurrences(out.str(), "still working"), 0u) << out.str();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1800));
+  }
+  const std::string said = out.str();
+  EXPECT_EQ(occurrences(said, "[fscil-bench]   still working (cop-fscil on simtex, seed 1 (1 of 1 runs)), "), 1u) << said;
+  const std::string after = said.substr(said.find("session 0"));
+  EXPECT_NE(after.find("still working"), std::string::npos) << "after the note, not before";
+}
+
+}  // namespace
+}  // namespace fscil
