@@ -72,6 +72,19 @@ std::vector<std::string> session_categories(std::size_t sessions) {
   return names;
 }
 
+// (x, y) on the line of `name`, which is added, and its name kept in `names`, where the figure has none.
+void add_point(Figure& figure, std::vector<SeriesName>& names, const SeriesName& name, double x, double y) {
+  const std::string label = full_label(name);
+  auto series = std::find_if(figure.series.begin(), figure.series.end(),
+                             [&](const FigureSeries& s) { return s.label == label; });
+  if (series == figure.series.end()) {
+    series = figure.series.insert(figure.series.end(), {label, {}, {}});
+    names.push_back(name);
+  }
+  series->x.push_back(x);
+  series->y.push_back(y);
+}
+
 // Points of each line in the order of x, so a line runs left to right.
 void sort_points(Figure& figure) {
   for (auto& series : figure.series) {
@@ -247,15 +260,7 @@ Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset,
     // One line per method and value of the other keys.
     SummaryRow line_key = row;
     line_key.grid = without_key(row.grid, key);
-    const SeriesName name = series_name(line_key);
-    auto series = std::find_if(figure.series.begin(), figure.series.end(),
-                               [&](const FigureSeries& s) { return s.label == full_label(name); });
-    if (series == figure.series.end()) {
-      series = figure.series.insert(figure.series.end(), {full_label(name), {}, {}});
-      names.push_back(name);
-    }
-    series->x.push_back(static_cast<double>(position - values.begin()));
-    series->y.push_back(metric_of(row, metric));
+    add_point(figure, names, series_name(line_key), static_cast<double>(position - values.begin()), metric_of(row, metric));
     note_selection(figure, row.selection);
   }
   sort_points(figure);
@@ -280,15 +285,8 @@ Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::str
     const auto position = std::find(values.begin(), values.end(), *value);
     if (position == values.end()) continue;
     // One line per method and value of the other keys.
-    const SeriesName name{row.method, without_key(row.grid, key)};
-    auto series = std::find_if(figure.series.begin(), figure.series.end(),
-                               [&](const FigureSeries& s) { return s.label == full_label(name); });
-    if (series == figure.series.end()) {
-      series = figure.series.insert(figure.series.end(), {full_label(name), {}, {}});
-      names.push_back(name);
-    }
-    series->x.push_back(static_cast<double>(position - values.begin()));
-    series->y.push_back(row.update_seconds);
+    add_point(figure, names, {row.method, without_key(row.grid, key)}, static_cast<double>(position - values.begin()),
+              row.update_seconds);
   }
   sort_points(figure);
   label_series(figure, names);
