@@ -3,6 +3,8 @@
 // nothing it trains: the same state, to the bit, as a run without a validation split.
 #include <gtest/gtest.h>
 
+#include <optional>
+
 #include <map>
 #include <set>
 
@@ -103,22 +105,43 @@ StageRun stage_run(const std::string& method, ParameterSet params, const std::st
   return run;
 }
 
+// The first epoch after which `stage` has levelled off in `epochs`; 0 for none.
+std::size_t first_level_epoch(const std::vector<EpochLog>& epochs, const std::string& stage) {
+  for (std::size_t e = 1; e <= epochs.size(); ++e) {
+    if (stage_has_levelled_off(std::vector<EpochLog>(epochs.begin(), epochs.begin() + e), stage)) return e;
+  }
+  return 0;
+}
+
 // base_stop=converged ends `stage` at the first epoch at which it has levelled off (converged over
 // a full window, on a plateau), and until then trains exactly as the whole schedule of `cap`
-// epochs does.
+// epochs does. Whether the tiny stage levels off before its cap depends on the kernels' rounding
+// (OpenBLAS's Haswell and Cooperlake kernels differ): the first of `seeds` whose whole schedule
+// levels off is the one checked.
 void expect_stop_at_first_level_epoch(const std::string& method, const ParameterSet& params,
-                                      const std::string& stage, std::size_t cap, std::uint64_t seed) {
-  const StageRun whole = stage_run(method, params, stage, false, seed);
+                                      const std::string& stage, std::size_t cap, const std::vector<std::uint64_t>& seeds) {
+  std::optional<StageRun> whole;
+  std::uint64_t seed = 0;
+  for (const std::uint64_t candidate : seeds) {
+    StageRun run = stage_run(method, params, stage, false, candidate);
+    ASSERT_EQ(run.epochs.size(), cap);
+    const std::size_t level = first_level_epoch(run.epochs, stage);
+    if (level > 0 && level < cap) {
+      whole = std::move(run);
+      seed = candidate;
+      break;
+    }
+  }
+  ASSERT_TRUE(whole.has_value()) << "the tiny " << stage << " stage levelled off from none of the seeds";
   const StageRun stopped = stage_run(method, params, stage, true, seed);
-  ASSERT_EQ(whole.epochs.size(), cap);
   const std::size_t epochs = stopped.epochs.size();
   ASSERT_LT(epochs, cap) << "the tiny " << stage << " stage never levelled off";
   ASSERT_GE(epochs, 2u * kConvergenceWindow);
   EXPECT_EQ(stopped.diagnostics.at(stage + "_converged_epoch"), static_cast<double>(epochs));
   for (std::size_t e = 0; e < epochs; ++e) {
-    EXPECT_EQ(stopped.epochs[e].values.at("loss"), whole.epochs[e].values.at("loss")) << e;
-    EXPECT_EQ(stopped.epochs[e].values.at(kBaseValidationKey), whole.epochs[e].values.at(kBaseValidationKey)) << e;
-    const std::vector<EpochLog> so_far(whole.epochs.begin(), whole.epochs.begin() + e + 1);
+    EXPECT_EQ(stopped.epochs[e].values.at("loss"), whole->epochs[e].values.at("loss")) << e;
+    EXPECT_EQ(stopped.epochs[e].values.at(kBaseValidationKey), whole->epochs[e].values.at(kBaseValidationKey)) << e;
+    const std::vector<EpochLog> so_far(whole->epochs.begin(), whole->epochs.begin() + e + 1);
     EXPECT_EQ(stage_has_levelled_off(so_far, stage), e + 1 == epochs) << "epoch " << e + 1;
   }
   EXPECT_EQ(run_verdict(judge_stages(stopped.epochs)), TrainingVerdict::converged);
@@ -128,14 +151,14 @@ TEST(TrainingVerdict, BaseStopConvergedEndsTheStageAtItsFirstLevelEpochAndChange
   ParameterSet params = verdict_training();
   params.set("pretrain_epochs", "10");  // it levels off after 6; a step decay's rates do not depend on the cap
   params.set("lr_step", "4");
-  expect_stop_at_first_level_epoch("prototype", params, "base", 10, 11);
+  expect_stop_at_first_level_epoch("prototype", params, "base", 10, {11, 12, 13, 14});
 }
 
 // pits-sc's pseudo-incremental stage (every cop-fscil row's too) stops the same way.
 TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLevelEpoch) {
   ParameterSet params = verdict_training();  // its 2-epoch pretraining is too short to stop
   params.set("pit_epochs", "8");
-  expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, 12);
+  expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, {12, 13, 14, 15});
 }
 
 // The fast profile trains every base stage until it has converged, at most 40 epochs, and plan counts
