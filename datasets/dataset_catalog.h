@@ -45,11 +45,12 @@ struct DatasetRequest {
 // Every dataset the CLI knows, simulated and real, one line each.
 std::vector<CatalogEntry> dataset_catalog();
 
+// DatasetError naming every dataset of the catalogue unless `name` is one of them.
+void require_dataset_name(const std::string& name);
+
 // Loads (from the cache when it holds this exact parameter set) or builds the dataset.
 // Reads its knobs (data_seed, context_strength, mel_scale, mel_norm) from params.
 // Throws DatasetError naming the file or what is missing.
-// DatasetError naming every dataset of the catalogue unless `name` is one of them.
-void require_dataset_name(const std::string& name);
 PreparedDataset prepare_dataset(const std::string& name, const DatasetRequest& request,
                                 const ParameterSet& params, std::ostream& log);
 

@@ -49,7 +49,7 @@ bool any_cell(const std::vector<CostRow>& rows) {
 }  // namespace
 
 std::string cost_row_label(const CostRow& row) {
-  return row.grid.empty() ? row.method : row.method + " [" + grid_cell_name(row.grid) + "]";
+  return label_with_cell(row.method, row.grid);
 }
 
 std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {

@@ -22,7 +22,7 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 SeriesName series_name(const SummaryRow& row) { return {row_label(row), without_key(row.grid, "selection")}; }
 
 // "method [cell]" whole: what tells series apart while a figure is built.
-std::string full_label(const SeriesName& name) { return series_labels({name}, 0).labels.front(); }
+std::string full_label(const SeriesName& name) { return label_with_cell(name.method, name.cell); }
 
 void add_note(Figure& figure, const std::string& note) {
   if (note.empty() || figure.note.find(note) != std::string::npos) return;

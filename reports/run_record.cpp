@@ -96,6 +96,10 @@ std::string grid_cell_name(const GridCell& grid) {
   return name;
 }
 
+std::string label_with_cell(const std::string& label, const GridCell& grid) {
+  return grid.empty() ? label : fmt::format("{} [{}]", label, grid_cell_name(grid));
+}
+
 namespace {
 
 // A JSON object keeps no order: the cell's key order goes beside it.
@@ -109,32 +113,32 @@ std::vector<std::string> grid_keys_of(const GridCell& cell) {
 
 std::string to_json_text(const RunRecord& record) {
   json document = {{"schema", kSchemaVersion},
-                         {"method", record.method},
-                         {"dataset", record.dataset},
-                         {"profile", record.profile},
-                         {"seed", record.seed},
-                         {"threads", record.threads},
-                         {"evaluated_on", record.evaluated_on},
-                         {"selection", record.selection},
-                         {"grid", std::map<std::string, std::string>(record.grid.begin(), record.grid.end())},
-                         {"parameters", record.parameters},
-                         {"protocol_parameters", record.protocol_parameters},
-                         {"machine", record.machine},
-                         {"version", record.version},
-                         {"git_commit", record.git_commit},
-                         {"dataset_key", record.dataset_key},
-                         {"sessions", sessions_json(record.sessions, NonFinite::null)},
-                         {"total_seconds", record.total_seconds},
-                         {"peak_resident_bytes", record.peak_resident_bytes},
-                         {"resident_at_start_bytes", record.resident_at_start_bytes},
-                         {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}},
-                         {"inference",
-                          {{"macs", record.inference.macs},
-                           {"flops", 2 * record.inference.macs},
-                           {"parameters", record.inference.parameters},
-                           {"trainable_parameters", record.inference.trainable_parameters},
-                           {"seconds_per_sample", record.inference.seconds_per_sample},
-                           {"batch", record.inference.batch}}}};
+                   {"method", record.method},
+                   {"dataset", record.dataset},
+                   {"profile", record.profile},
+                   {"seed", record.seed},
+                   {"threads", record.threads},
+                   {"evaluated_on", record.evaluated_on},
+                   {"selection", record.selection},
+                   {"grid", std::map<std::string, std::string>(record.grid.begin(), record.grid.end())},
+                   {"parameters", record.parameters},
+                   {"protocol_parameters", record.protocol_parameters},
+                   {"machine", record.machine},
+                   {"version", record.version},
+                   {"git_commit", record.git_commit},
+                   {"dataset_key", record.dataset_key},
+                   {"sessions", sessions_json(record.sessions, NonFinite::null)},
+                   {"total_seconds", record.total_seconds},
+                   {"peak_resident_bytes", record.peak_resident_bytes},
+                   {"resident_at_start_bytes", record.resident_at_start_bytes},
+                   {"replay", {{"samples", record.replay_samples}, {"bytes", record.replay_bytes}}},
+                   {"inference",
+                    {{"macs", record.inference.macs},
+                     {"flops", 2 * record.inference.macs},
+                     {"parameters", record.inference.parameters},
+                     {"trainable_parameters", record.inference.trainable_parameters},
+                     {"seconds_per_sample", record.inference.seconds_per_sample},
+                     {"batch", record.inference.batch}}}};
   if (!record.grid.empty()) document["grid_keys"] = grid_keys_of(record.grid);
   return document.dump(2) + "\n";
 }

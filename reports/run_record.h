@@ -22,8 +22,6 @@ struct InferenceRecord {
   std::int64_t batch = 0;
 };
 
-// Everything one (method, dataset, seed) run produced: the schema of result files, from
-// which every report can be rebuilt.
 // A sweep cell: key=value in the order the command's --grid gave its keys (the first varies
 // slowest); tables, labels and cell folders follow that order.
 using GridCell = std::vector<std::pair<std::string, std::string>>;
@@ -36,6 +34,8 @@ bool same_cell(const GridCell& a, const GridCell& b);
 // `cell` with its keys in the order of `keys` (keys it lacks skipped), any others after, as they were.
 GridCell in_key_order(const GridCell& cell, const std::vector<std::string>& keys);
 
+// Everything one (method, dataset, seed) run produced: the schema of result files, from
+// which every report can be rebuilt.
 struct RunRecord {
   std::string method;
   std::string dataset;
@@ -93,6 +93,9 @@ bool selected_on_test(const RunRecord& record);
 bool is_grid_text(const std::string& text);
 // "key=value+key=value" of a sweep cell in its key order (folder name of the cell; "" outside a sweep).
 std::string grid_cell_name(const GridCell& grid);
+// "label [key=value+...]" for a row or series of a sweep cell, `label` alone outside a sweep: how
+// every table and figure names a method's row.
+std::string label_with_cell(const std::string& label, const GridCell& grid);
 std::string to_json_text(const RunRecord& record);
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
 

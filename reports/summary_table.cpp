@@ -22,11 +22,6 @@ std::vector<StageConvergence> base_stages(const RunRecord& record) {
   return record.sessions.empty() ? std::vector<StageConvergence>{} : judge_stages(record.sessions.front().training_log);
 }
 
-// "label [cell]" in a sweep, "label" outside one.
-std::string with_cell(std::string label, const GridCell& grid) {
-  if (const std::string cell = grid_cell_name(grid); !cell.empty()) label += " [" + cell + "]";
-  return label;
-}
 }  // namespace
 
 std::string SummaryTable::precision_note() const {
@@ -79,7 +74,7 @@ TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts) {
 std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows) {
   std::vector<std::string> notes;
   for (const auto* row : rows) {
-    const std::string label = with_cell(row_label(*row), row->grid);
+    const std::string label = label_with_cell(row_label(*row), row->grid);
     for (const auto& note : row->unfinished) notes.push_back(label + ", " + note);
   }
   return notes;
@@ -88,7 +83,7 @@ std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& 
 std::string unfinished_warning(const std::vector<RunRecord>& records) {
   std::string out;
   for (const RunRecord& record : records) {
-    const std::string label = with_cell(record.method, record.grid);
+    const std::string label = label_with_cell(record.method, record.grid);
     for (const StageConvergence& stage : base_stages(record)) {
       if (!ended_unfinished(stage.verdict)) continue;
       out += fmt::format("warning: {}, seed {}: a base stage ended {}: {}\n", label, record.seed,

@@ -772,7 +772,9 @@ std::string run_benchmark(const RunOptions& options) {
   const OutFolderLock lock = claim_out_folder(options, plan);
   CommandRuns runs = start_runs(options, plan);
   const std::size_t run_count = plan.method_names.size() * plan.seeds.size();
-  const std::vector<double> expected = options.quiet ? std::vector<double>() : expected_run_seconds(options, plan);
+  // Only a command of several runs says how many are done and what is left.
+  const std::vector<double> expected =
+      options.quiet || run_count < 2 ? std::vector<double>() : expected_run_seconds(options, plan);
   const Stopwatch command_clock;
   for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
     for (std::size_t s = 0; s < plan.seeds.size(); ++s) {

@@ -46,9 +46,10 @@ RunOptions sweep_cell_options(const RunOptions& sweep, const GridCell& cell) {
 }
 
 std::vector<RunRecord> load_sweep_records(const std::string& out, const std::vector<std::string>& grid) {
+  const std::vector<GridAxis> axes = parse_grid(grid);
   std::vector<std::string> order, keys;
-  for (const auto& cell : grid_cells(parse_grid(grid))) order.push_back(grid_cell_name(cell));
-  for (const auto& axis : parse_grid(grid)) keys.push_back(axis.key);
+  for (const auto& cell : grid_cells(axes)) order.push_back(grid_cell_name(cell));
+  for (const auto& axis : axes) keys.push_back(axis.key);
   std::vector<RunRecord> records = load_run_records(out);
   for (auto& record : records) record.grid = in_key_order(record.grid, keys);  // the command's order
   const auto position = [&](const RunRecord& record) {
