@@ -694,8 +694,11 @@ bool uses_stage_cache(const RunOptions& options) { return !options.no_cache && !
 namespace {
 
 CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
+  // Read from a copy: what plan.params records as read goes into every run's identity and result
+  // file, and sizing the command for its estimate reads no run's value.
+  const ParameterSet params = plan.params;
   CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads, plan.precision,
-                     SupervisedSchedule::from(plan.params).batch_size, {},
+                     SupervisedSchedule::from(params).batch_size, {},
                      options.no_cache ? std::string() : cache_folder(options).string(), {}};
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
     const SessionSchedule& schedule = plan.schedules[i];
