@@ -72,6 +72,30 @@ AxisTicks padded_value_axis(double low, double high, double floor, double ceilin
   return ticks;
 }
 
+AxisTicks padded_log_axis(double low, double high) {
+  if (!(std::isfinite(low) && std::isfinite(high) && low > 0 && high > 0)) low = 1, high = 10;
+  if (high < low) std::swap(low, high);
+  const double first = std::log10(low), last = std::log10(high);
+  const double pad = std::max(0.04 * (last - first), 0.05);
+  AxisTicks ticks;
+  ticks.low = std::pow(10.0, first - pad);
+  ticks.high = std::pow(10.0, last + pad);
+  ticks.step = 10;
+  // Powers of ten where the axis holds two of them; 1, 2 and 5 times them on a shorter one.
+  for (const std::vector<double>& mantissas : {std::vector<double>{1}, std::vector<double>{1, 2, 5}}) {
+    ticks.values.clear();
+    for (int power = static_cast<int>(std::floor(first - pad)); power <= static_cast<int>(std::ceil(last + pad)); ++power) {
+      for (const double mantissa : mantissas) {
+        const double value = mantissa * std::pow(10.0, power);
+        if (value >= ticks.low * (1 - 1e-12) && value <= ticks.high * (1 + 1e-12)) ticks.values.push_back(value);
+      }
+    }
+    if (ticks.values.size() >= 2) break;
+  }
+  ticks.decimals = ticks.values.empty() ? 0 : decimals_of(ticks.values.front());
+  return ticks;
+}
+
 AxisTicks ticks_within(double low, double high, double step) {
   AxisTicks ticks;
   ticks.low = low;

@@ -22,6 +22,11 @@ AxisTicks nice_ticks(double low, double high, int target_count = 6);
 // the first or last tick does not sit on the frame. A bar chart's baseline 0 takes no padding.
 AxisTicks padded_value_axis(double low, double high, double floor, double ceiling, bool pad_low = true,
                             bool pad_high = true);
+// A logarithmic (base 10) axis over the positive data [low, high], reaching 4% of its span in
+// decades past them (at least 0.05 decade): ticks at powers of ten where it holds two, else at 1, 2
+// and 5 times them; `step` is 10, `low`, `high` and `values` are values, not logarithms. Data that
+// are not positive and finite get the axis 1 to 10.
+AxisTicks padded_log_axis(double low, double high);
 // The ticks of `step` (from nice_ticks) inside [low, high], for an axis widened to keep units equal.
 AxisTicks ticks_within(double low, double high, double step);
 // A tick's label with the ticks' decimals; never "-0".

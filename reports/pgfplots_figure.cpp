@@ -82,14 +82,7 @@ std::string equal_unit_limits(const Figure& figure) {
 
 // The y axis as the SVG draws it (padded_value_axis): its ends and its ticks.
 std::string value_axis_limits(const Figure& figure) {
-  double low = HUGE_VAL, high = -HUGE_VAL;
-  for (const auto& series : figure.series) {
-    for (const double y : series.y) {
-      if (!std::isfinite(y)) continue;
-      low = std::min(low, y);
-      high = std::max(high, y);
-    }
-  }
+  auto [low, high] = value_range(figure);
   const bool bars = figure.kind == FigureKind::bars;
   if (bars) low = std::min(low, 0.0), high = std::max(high, 0.0);
   const AxisTicks y = padded_value_axis(low, high, figure.y_floor, figure.y_ceiling, !(bars && low == 0),
@@ -133,6 +126,19 @@ std::string axis_options(const Figure& figure) {
       options.push_back("x tick label style={rotate=35, anchor=north east}");
     }
   }
+  if (figure.x_log) {
+    double low = HUGE_VAL, high = -HUGE_VAL;
+    for (const auto& series : figure.series) {
+      for (const double x : series.x) {
+        if (std::isfinite(x)) low = std::min(low, x), high = std::max(high, x);
+      }
+    }
+    const AxisTicks x = padded_log_axis(low, high);
+    std::vector<std::string> ticks;
+    for (const double value : x.values) ticks.push_back(pgf_number(value));
+    options.push_back(fmt::format("xmode=log, log basis x=10, log ticks with fixed point, xmin={}, xmax={}, xtick={{{}}}",
+                                  pgf_number(x.low), pgf_number(x.high), fmt::join(ticks, ",")));
+  }
   if (figure.kind == FigureKind::bars) {
     const double bar_width = 0.8 * axis_width_cm / static_cast<double>(categories) /
                              static_cast<double>(std::max<std::size_t>(1, figure.series.size()));
@@ -149,12 +155,20 @@ std::string axis_options(const Figure& figure) {
 std::string plot_options(const Figure& figure, std::size_t index) {
   const SeriesStyle style = series_style(index);
   const std::string colour = colour_name(index);
+  std::string options;
   switch (figure.kind) {
-    case FigureKind::bars: return fmt::format("fill={}, draw=black", colour);
-    case FigureKind::scatter: return fmt::format("only marks, color={}, {}", colour, pgf_marks[style.marker]);
-    case FigureKind::lines: break;
+    case FigureKind::bars: options = fmt::format("fill={}, draw=black", colour); break;
+    case FigureKind::scatter: options = fmt::format("only marks, color={}, {}", colour, pgf_marks[style.marker]); break;
+    case FigureKind::lines:
+      options = fmt::format("color={}, {}, thick, {}", colour, pgf_dashes[style.dash], pgf_marks[style.marker]);
+      break;
   }
-  return fmt::format("color={}, {}, thick, {}", colour, pgf_dashes[style.dash], pgf_marks[style.marker]);
+  if (has_spread(figure.series[index])) {
+    // Last: the keys after /.cd are error bars' own.
+    options += fmt::format(", error bars/.cd, y dir=both, y explicit, error bar style={{solid, thin, {}}}",
+                           figure.kind == FigureKind::bars ? "black" : colour);
+  }
+  return options;
 }
 
 // A line's gap stays a `nan` point, where unbounded coords=jump breaks it; bars and points are
@@ -164,7 +178,15 @@ std::string coordinates(const Figure& figure, const FigureSeries& series) {
   for (std::size_t i = 0; i < series.x.size(); ++i) {
     const bool finite = std::isfinite(series.x[i]) && std::isfinite(series.y[i]);
     if (finite) {
-      points.push_back(fmt::format("({},{})", pgf_number(series.x[i]), pgf_number(series.y[i])));
+      std::string point = fmt::format("({},{})", pgf_number(series.x[i]), pgf_number(series.y[i]));
+      // A plot with error bars needs a spread at every point: 0 where it has none.
+      if (has_spread(series)) {
+        const auto [bottom, top] = whisker_ends(figure, series, i);
+        const bool drawn = std::isfinite(bottom) && std::isfinite(top);
+        point += fmt::format(" += (0,{}) -= (0,{})", pgf_number(drawn ? top - series.y[i] : 0),
+                             pgf_number(drawn ? series.y[i] - bottom : 0));
+      }
+      points.push_back(point);
     } else if (figure.kind == FigureKind::lines && std::isfinite(series.x[i])) {
       points.push_back(fmt::format("({},nan)", pgf_number(series.x[i])));
     }

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "metrics/statistics.h"
+#include "core/number_text.h"
 #include "reports/series_labels.h"
 #include "core/error.h"
 
@@ -53,12 +54,21 @@ std::string stem(const std::string& text) {
   return out;
 }
 
-double metric_of(const SummaryRow& row, const std::string& metric) {
-  if (metric == "AA") return row.average_accuracy.mean;
-  if (metric == "PD") return row.performance_drop.mean;
-  if (metric == "ADR") return row.average_drop_rate.mean;
-  if (metric == "Acc0") return row.session_accuracy.front().mean;
+const SeedStatistic& metric_of(const SummaryRow& row, const std::string& metric) {
+  if (metric == "AA") return row.average_accuracy;
+  if (metric == "PD") return row.performance_drop;
+  if (metric == "ADR") return row.average_drop_rate;
+  if (metric == "Acc0") return row.session_accuracy.front();
   throw ReportError(fmt::format("no metric '{}' (expected AA, PD, ADR or Acc0)", metric));
+}
+
+// One standard deviation over the seeds, where there are two or more.
+double spread_of(const SeedStatistic& statistic) { return statistic.values.size() >= 2 ? statistic.std : kNaN; }
+double spread_of(const std::vector<double>& values) { return values.size() >= 2 ? standard_deviation_of(values) : kNaN; }
+
+// Says what the whiskers are, on a figure that draws any: a figure travels without its page.
+void note_spread(Figure& figure) {
+  if (has_spread(figure)) add_note(figure, "whiskers: one standard deviation over seeds either side");
 }
 
 void note_selection(Figure& figure, const std::string& selection) {
@@ -73,7 +83,8 @@ std::vector<std::string> session_categories(std::size_t sessions) {
 }
 
 // (x, y) on the line of `name`, which is added, and its name kept in `names`, where the figure has none.
-void add_point(Figure& figure, std::vector<SeriesName>& names, const SeriesName& name, double x, double y) {
+void add_point(Figure& figure, std::vector<SeriesName>& names, const SeriesName& name, double x, double y,
+               double spread = kNaN) {
   const std::string label = full_label(name);
   auto series = std::find_if(figure.series.begin(), figure.series.end(),
                              [&](const FigureSeries& s) { return s.label == label; });
@@ -83,6 +94,33 @@ void add_point(Figure& figure, std::vector<SeriesName>& names, const SeriesName&
   }
   series->x.push_back(x);
   series->y.push_back(y);
+  series->y_spread.push_back(spread);
+}
+
+// Where each of a sweep key's `values` sits on the x axis of `figure`, which this sets up: at the
+// number itself where every value is one, on a logarithmic axis where they are positive and span
+// more than a factor of 20 (N_ps 5 to 1000); as categories otherwise, or where a linear axis would
+// crowd them (pic_weight 0, 0.0001 ... 1).
+std::vector<double> place_values(Figure& figure, const std::vector<std::string>& values) {
+  std::vector<double> numbers;
+  for (const auto& value : values) {
+    const auto number = parse_finite_number(value);
+    if (!number) break;
+    numbers.push_back(*number);
+  }
+  if (numbers.size() == values.size() && !numbers.empty()) {
+    const auto [low, high] = std::minmax_element(numbers.begin(), numbers.end());
+    const bool wide = *high > 20 * std::abs(*low) || *low == 0;
+    if (*low > 0 && wide) {
+      figure.x_log = true;
+      return numbers;
+    }
+    if (!wide || *low < 0) return numbers;
+  }
+  figure.x_categories = values;
+  std::vector<double> positions;
+  for (std::size_t i = 0; i < values.size(); ++i) positions.push_back(static_cast<double>(i));
+  return positions;
 }
 
 // Points of each line in the order of x, so a line runs left to right.
@@ -92,7 +130,11 @@ void sort_points(Figure& figure) {
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return series.x[a] < series.x[b]; });
     FigureSeries sorted{series.label, {}, {}};
-    for (std::size_t i : order) sorted.x.push_back(series.x[i]), sorted.y.push_back(series.y[i]);
+    for (std::size_t i : order) {
+      sorted.x.push_back(series.x[i]);
+      sorted.y.push_back(series.y[i]);
+      if (!series.y_spread.empty()) sorted.y_spread.push_back(series.y_spread[i]);
+    }
     series = std::move(sorted);
   }
 }
@@ -128,12 +170,14 @@ Figure session_accuracy_figure(const SummaryTable& table, const std::string& dat
       // Session 0 has no novel classes.
       const bool undefined = s == 0 && (metric == SessionMetric::novel || metric == SessionMetric::harmonic);
       series.y.push_back(undefined ? kNaN : values[s].mean);
+      series.y_spread.push_back(undefined ? kNaN : spread_of(values[s]));
     }
     figure.x_categories = session_categories(std::max(figure.x_categories.size(), values.size()));
     figure.series.push_back(std::move(series));
     note_selection(figure, row.selection);
   }
   label_series(figure, names);
+  note_spread(figure);
   return figure;
 }
 
@@ -171,6 +215,7 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
     for (std::size_t s = 0; s < sessions.size(); ++s) {
       series.x.push_back(static_cast<double>(s));
       series.y.push_back(sessions[s].empty() ? kNaN : mean_of(sessions[s]));
+      series.y_spread.push_back(spread_of(sessions[s]));
     }
     figure.x_categories = session_categories(std::max(figure.x_categories.size(), sessions.size()));
     figure.series.push_back(std::move(series));
@@ -180,6 +225,7 @@ Figure context_ratio_figure(const std::vector<RunRecord>& records, const std::st
   });
   if (all_zero) add_note(figure, "R is 0 throughout: the scored split holds one context per class");
   label_series(figure, names);
+  note_spread(figure);
   return figure;
 }
 
@@ -232,12 +278,15 @@ Figure ablation_figure(const SummaryTable& table, const std::string& dataset, co
     names.push_back(series_name(row));
     aa.x.push_back(x);
     aa.y.push_back(row.average_accuracy.mean);
+    aa.y_spread.push_back(spread_of(row.average_accuracy));
     pd.x.push_back(x);
     pd.y.push_back(row.performance_drop.mean);
+    pd.y_spread.push_back(spread_of(row.performance_drop));
     note_selection(figure, row.selection);
   }
   figure.series = {aa, pd};
   label_categories(figure, names);
+  note_spread(figure);
   return figure;
 }
 
@@ -250,7 +299,7 @@ Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset,
   figure.x_label = key;
   figure.y_label = metric == "Acc0" ? "session 0 accuracy (%)" : metric + (metric == "ADR" ? "" : " (%)");
   if (metric == "AA" || metric == "Acc0") figure.y_floor = 0, figure.y_ceiling = 100;
-  figure.x_categories = values;
+  const std::vector<double> positions = place_values(figure, values);
   std::vector<SeriesName> names;
   for (const auto& row : table.rows) {
     const std::string* value = grid_value(row.grid, key);
@@ -260,11 +309,14 @@ Figure grid_metric_figure(const SummaryTable& table, const std::string& dataset,
     // One line per method and value of the other keys.
     SummaryRow line_key = row;
     line_key.grid = without_key(row.grid, key);
-    add_point(figure, names, series_name(line_key), static_cast<double>(position - values.begin()), metric_of(row, metric));
+    const SeedStatistic& value_of_row = metric_of(row, metric);
+    add_point(figure, names, series_name(line_key), positions[position - values.begin()], value_of_row.mean,
+              spread_of(value_of_row));
     note_selection(figure, row.selection);
   }
   sort_points(figure);
   label_series(figure, names);
+  note_spread(figure);
   return figure;
 }
 
@@ -277,7 +329,7 @@ Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::str
   figure.x_label = key;
   figure.y_label = "time per incremental session (s)";
   figure.y_floor = 0;
-  figure.x_categories = values;
+  const std::vector<double> positions = place_values(figure, values);
   std::vector<SeriesName> names;
   for (const auto& row : costs) {
     const std::string* value = grid_value(row.grid, key);
@@ -285,7 +337,7 @@ Figure grid_update_time_figure(const std::vector<CostRow>& costs, const std::str
     const auto position = std::find(values.begin(), values.end(), *value);
     if (position == values.end()) continue;
     // One line per method and value of the other keys.
-    add_point(figure, names, {row.method, without_key(row.grid, key)}, static_cast<double>(position - values.begin()),
+    add_point(figure, names, {row.method, without_key(row.grid, key)}, positions[position - values.begin()],
               row.update_seconds);
   }
   sort_points(figure);

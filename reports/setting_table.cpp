@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,18 +28,20 @@ std::string shown(double value, const char* format = "{:.2f}") {
 
 struct Metric {
   const char* name;
+  const char* latex;  // its column heading in LaTeX
   double SettingTable::Row::*ours;
   double PaperSetting::*paper;
   bool higher_is_better;
 };
 
 std::vector<Metric> metrics_of(const SettingTable& table) {
-  std::vector<Metric> metrics = {{"Acc0", &SettingTable::Row::acc0, &PaperSetting::acc0, true},
-                                 {"PD", &SettingTable::Row::pd, &PaperSetting::pd, false},
-                                 {"AA", &SettingTable::Row::aa, &PaperSetting::aa, true},
-                                 {"ADR", &SettingTable::Row::adr, &PaperSetting::adr, false}};
+  std::vector<Metric> metrics = {{"Acc0", "$\\mathrm{Acc}_{0}$", &SettingTable::Row::acc0, &PaperSetting::acc0, true},
+                                 {"PD", "PD", &SettingTable::Row::pd, &PaperSetting::pd, false},
+                                 {"AA", "AA", &SettingTable::Row::aa, &PaperSetting::aa, true},
+                                 {"ADR", "ADR", &SettingTable::Row::adr, &PaperSetting::adr, false}};
   if (table.update_time) {
-    metrics.push_back({"update_s", &SettingTable::Row::update_seconds, &PaperSetting::update_seconds, false});
+    metrics.push_back({"update_s", "Update time (s)", &SettingTable::Row::update_seconds, &PaperSetting::update_seconds,
+                       false});
   }
   return metrics;
 }
@@ -57,6 +60,20 @@ bool is_best(const SettingTable& table, const SettingTable::Row& row, const Metr
 
 std::string label_of(const SettingTable::Row& row) {
   return row.selected_on_test ? row.setting + " (selected on test (inflated))" : row.setting;
+}
+
+// The row's cell as the paper's table names it, "$N_{\mathrm{ps}}$ = 5", or as typed where it has
+// no name for the key; keys joined by ", ".
+std::string latex_label_of(const SettingTable& table, const SettingTable::Row& row) {
+  std::vector<std::string> parts;
+  for (const auto& [key, value] : row.cell) {
+    const auto symbol = std::find_if(table.latex_keys.begin(), table.latex_keys.end(),
+                                     [&](const auto& entry) { return entry.first == key; });
+    parts.push_back(symbol == table.latex_keys.end() ? latex_text(key + "=" + value)
+                                                     : fmt::format("{} = {}", symbol->second, latex_text(value)));
+  }
+  std::string label = parts.empty() ? latex_text(row.setting) : fmt::format("{}", fmt::join(parts, ", "));
+  return row.selected_on_test ? label + " (selected on test (inflated))" : label;
 }
 
 }  // namespace
@@ -82,14 +99,15 @@ std::vector<PaperSetting> load_paper_analyses(const std::filesystem::path& path)
 SettingTable make_setting_table(const std::string& name, const std::string& caption, const std::string& method,
                                 const std::string& dataset, const SummaryTable& table,
                                 const std::vector<CostRow>& costs, const std::vector<PaperSetting>& paper,
-                                bool update_time) {
-  SettingTable result{name, caption, method, dataset, update_time, {}};
+                                bool update_time, std::vector<std::pair<std::string, std::string>> latex_keys) {
+  SettingTable result{name, caption, method, dataset, update_time, std::move(latex_keys), {}};
   // The paper's numbers are test-split numbers: none beside runs scored on validation.
   const std::string paper_dataset = table.evaluated_on == "test" ? paper_dataset_of(dataset) : std::string();
   for (const auto& row : table.rows) {
     if (row.method != method || row.dataset != dataset) continue;
     SettingTable::Row line;
     line.setting = grid_cell_name(row.grid);
+    line.cell = row.grid;
     line.seeds = fmt::format("{}", fmt::join(row.seeds, " "));
     line.acc0 = row.session_accuracy.front().mean;
     line.pd = row.performance_drop.mean;
@@ -163,12 +181,11 @@ std::string render_setting_latex(const SettingTable& table) {
                      latex_text(table.caption), latex_text(table.method), latex_text(table.dataset));
   out += fmt::format("\\begin{{tabular}}{{l{}}}\n\\toprule\nSetting", std::string(metrics.size(), 'c'));
   for (const auto& metric : metrics) {
-    const std::string name = metric.name == std::string("Acc0") ? "$\\mathrm{Acc}_{0}$" : latex_text(metric.name);
-    out += fmt::format(" & {}{}", name, metric.higher_is_better ? "$\\uparrow$" : "$\\downarrow$");
+    out += fmt::format(" & {}{}", metric.latex, metric.higher_is_better ? "$\\uparrow$" : "$\\downarrow$");
   }
   out += " \\\\\n\\midrule\n";
   for (const auto& row : table.rows) {
-    out += latex_text(label_of(row));
+    out += latex_label_of(table, row);
     for (const auto& metric : metrics) {
       std::string text = shown(row.*metric.ours);
       if (is_best(table, row, metric)) text = "\\textbf{" + text + "}";

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "reports/cost_table.h"
@@ -29,8 +30,12 @@ struct SettingTable {
   std::string caption;  // the paper's caption
   std::string method, dataset;
   bool update_time = false;
+  // How the LaTeX table names a sweep key, as the paper's table does (pspc_probes as
+  // "$N_{\mathrm{ps}}$"); a key without one is printed as it is typed.
+  std::vector<std::pair<std::string, std::string>> latex_keys;
   struct Row {
     std::string setting;  // grid_cell_name of the cell
+    GridCell cell;
     std::string seeds;
     double acc0 = 0, pd = 0, aa = 0, adr = 0, update_seconds = 0;
     bool selected_on_test = false;
@@ -42,7 +47,8 @@ struct SettingTable {
 SettingTable make_setting_table(const std::string& name, const std::string& caption, const std::string& method,
                                 const std::string& dataset, const SummaryTable& table,
                                 const std::vector<CostRow>& costs, const std::vector<PaperSetting>& paper,
-                                bool update_time);
+                                bool update_time,
+                                std::vector<std::pair<std::string, std::string>> latex_keys = {});
 
 // CSV (ours and paper's columns), Markdown and LaTeX (the paper's layout, best of ours in bold).
 std::string render_setting_csv(const SettingTable& table);

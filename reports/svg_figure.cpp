@@ -38,10 +38,14 @@ std::string shortened(const std::string& text, std::size_t limit) {
   return text.substr(0, end) + "\xE2\x80\xA6";
 }
 
-// A linear map from an axis range onto pixels.
+// A linear or logarithmic map from an axis range onto pixels.
 struct Scale {
   double low, high, pixel_low, pixel_high;
-  double operator()(double value) const { return pixel_low + (value - low) / (high - low) * (pixel_high - pixel_low); }
+  bool logarithmic = false;
+  double operator()(double value) const {
+    const auto at = [&](double v) { return logarithmic ? std::log10(v) : v; };
+    return pixel_low + (at(value) - at(low)) / (at(high) - at(low)) * (pixel_high - pixel_low);
+  }
 };
 
 struct Frame {
@@ -149,8 +153,10 @@ class SvgFigure {
     Range x, y;
     for (const auto& series : figure_.series) {
       for (const double value : series.x) x.add(value);
-      for (const double value : series.y) y.add(value);
     }
+    const auto [low, high] = value_range(figure_);
+    y.add(low);
+    y.add(high);
     if (figure_.kind == FigureKind::bars) y.add(0);
     if (figure_.draw_unit_circle) {
       for (const double bound : {-1.0, 1.0}) {
@@ -161,7 +167,9 @@ class SvgFigure {
     const bool bars = figure_.kind == FigureKind::bars;
     const AxisTicks data_y = padded_value_axis(y.low, y.high, figure_.y_floor, figure_.y_ceiling,
                                                !(bars && y.low == 0), !(bars && y.high == 0));
-    const AxisTicks data_x = categorical() ? AxisTicks{} : padded_value_axis(x.low, x.high, -HUGE_VAL, HUGE_VAL);
+    const AxisTicks data_x = categorical()     ? AxisTicks{}
+                             : figure_.x_log ? padded_log_axis(x.low, x.high)
+                                             : padded_value_axis(x.low, x.high, -HUGE_VAL, HUGE_VAL);
     x_ticks_ = data_x;
     y_ticks_ = data_y;
 
@@ -203,7 +211,7 @@ class SvgFigure {
       height_ = std::max(min_page_height,
                          std::ceil(frame_.top + legend_row * static_cast<double>(legend_.size()) + 12 + bottom_margin));
       frame_.height = height_ - frame_.top - bottom_margin;
-      if (figure_.equal_axes && !categorical()) {
+      if (figure_.equal_axes && !categorical() && !figure_.x_log) {
         const double units = std::max((data_x.high - data_x.low) / frame_.width, (data_y.high - data_y.low) / frame_.height);
         x_ticks_ = widened(data_x, units, frame_.width);
         y_ticks_ = widened(data_y, units, frame_.height);
@@ -211,7 +219,7 @@ class SvgFigure {
     }
     const double categories = static_cast<double>(figure_.x_categories.size());
     x_ = categorical() ? Scale{-0.5, categories - 0.5, frame_.left, frame_.right()}
-                       : Scale{x_ticks_.low, x_ticks_.high, frame_.left, frame_.right()};
+                       : Scale{x_ticks_.low, x_ticks_.high, frame_.left, frame_.right(), figure_.x_log};
     y_ = Scale{y_ticks_.low, y_ticks_.high, frame_.bottom(), frame_.top};
   }
 
@@ -331,6 +339,7 @@ class SvgFigure {
         out += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"{}\" stroke=\"#333333\" "
                            "stroke-width=\"0.6\"/>\n",
                            px(left), px(top), px(width), px(std::abs(zero - y_(series.y[i]))), bar_fill(index, style));
+        out += whisker(series, i, left + width / 2, "333333");
       }
       return out + "</g>\n";
     }
@@ -358,9 +367,21 @@ class SvgFigure {
       close_run();
     }
     for (std::size_t i = 0; i < series.x.size(); ++i) {
-      if (finite(i)) out += marker(style.marker, x_(series.x[i]), y_(series.y[i]), style.colour);
+      if (!finite(i)) continue;
+      out += whisker(series, i, x_(series.x[i]), style.colour);
+      out += marker(style.marker, x_(series.x[i]), y_(series.y[i]), style.colour);
     }
     return out + "</g>\n";
+  }
+
+  // Point i's spread over seeds as a capped vertical line at pixel x; nothing where it has none.
+  std::string whisker(const FigureSeries& series, std::size_t i, double x, const std::string& colour) const {
+    const auto [bottom, top] = whisker_ends(figure_, series, i);
+    if (!std::isfinite(bottom) || !std::isfinite(top)) return "";
+    const double cap = 3;
+    return fmt::format("<path class=\"spread\" d=\"M{0},{1} L{0},{2} M{3},{1} L{4},{1} M{3},{2} L{4},{2}\" fill=\"none\" "
+                       "stroke=\"#{5}\" stroke-width=\"1\"/>\n",
+                       px(x), px(y_(bottom)), px(y_(top)), px(x - cap), px(x + cap), colour);
   }
 
   std::string legend() const {

@@ -88,6 +88,26 @@ TEST(FigureTicks, AValueAxisIsPaddedAndNeverTicksPastTheQuantitysBounds) {
   EXPECT_LT(drop.values.front(), -12 + 1e-9);
 }
 
+// Issue 70: N_ps 5 to 1000 was spaced as six equal categories.
+TEST(FigureTicks, ALogarithmicAxisTicksPowersOfTenOrOneTwoFiveAndReachesPastTheData) {
+  const AxisTicks probes = padded_log_axis(5, 1000);
+  EXPECT_EQ(probes.values, (std::vector<double>{10, 100, 1000}));
+  // 4% of the 2.3 decades past each end.
+  EXPECT_NEAR(std::log10(probes.low), std::log10(5) - 0.04 * std::log10(200), 1e-12);
+  EXPECT_NEAR(std::log10(probes.high), 3 + 0.04 * std::log10(200), 1e-12);
+  EXPECT_DOUBLE_EQ(probes.step, 10);
+  EXPECT_EQ(probes.decimals, 0);
+
+  const AxisTicks short_axis = padded_log_axis(2, 8);  // under a decade: 1, 2 and 5 times powers of ten
+  EXPECT_EQ(short_axis.values, (std::vector<double>{2, 5}));
+  const AxisTicks small = padded_log_axis(0.001, 0.1);
+  EXPECT_EQ(small.decimals, 3);
+  EXPECT_EQ(tick_label(small.values.front(), small.decimals), "0.001");
+  const AxisTicks nothing = padded_log_axis(gap, gap);
+  EXPECT_LT(nothing.low, 1);
+  EXPECT_GT(nothing.high, 10);
+}
+
 TEST(FigureTicks, FallOnNiceNumbersCoveringTheData) {
   const AxisTicks percent = nice_ticks(0, 100);
   EXPECT_DOUBLE_EQ(percent.step, 20);
@@ -198,6 +218,53 @@ TEST(FigureSvg, PlacesEachPointWhereItsAxesSayItIs) {
   EXPECT_NEAR(number_attribute(marks[0], "cy"), box.bottom() - box.height * along(43.2, 40, 100), pixel);
   EXPECT_NE(accuracies.find(">40</text>"), std::string::npos);
   EXPECT_EQ(accuracies.find(">30</text>"), std::string::npos);
+}
+
+TEST(FigureSvg, ALogarithmicAxisSpacesEachDecadeEqually) {
+  Figure figure = lines_figure({5, 10, 100, 1000}, {70, 71, 72, 73});
+  figure.x_log = true;
+  const std::string svg = render_svg(figure);
+  const auto points = series_tags(svg, 0, "circle");
+  ASSERT_EQ(points.size(), 4u);
+  const double ten = number_attribute(points[1], "cx"), hundred = number_attribute(points[2], "cx"),
+               thousand = number_attribute(points[3], "cx");
+  EXPECT_NEAR(hundred - ten, thousand - hundred, 2 * pixel);
+  EXPECT_NEAR(ten - number_attribute(points[0], "cx"), (hundred - ten) * std::log10(2), 2 * pixel);
+  const Box area = plot_area(svg);
+  EXPECT_GT(number_attribute(points[0], "cx"), area.left + 5) << "the first point off the frame";
+  EXPECT_LT(thousand, area.right() - 5);
+  for (const char* label : {">10</text>", ">100</text>", ">1000</text>"}) {
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  }
+}
+
+// Issue 70: figures plotted means only, however far apart the seeds were.
+TEST(FigureSvg, WhiskersSpanOneSpreadEachWayAndStopAtTheQuantitysBounds) {
+  Figure figure = lines_figure({0, 1, 2}, {50, 97, 70});
+  figure.y_floor = 0;
+  figure.y_ceiling = 100;
+  figure.series[0].y_spread = {10, 6, gap};  // the last point has one seed
+  const std::string svg = render_svg(figure);
+  const auto whiskers = series_tags(svg, 0, "path");
+  std::vector<std::string> spreads;
+  for (const auto& path : whiskers) {
+    if (path.find("class=\"spread\"") != std::string::npos) spreads.push_back(path);
+  }
+  ASSERT_EQ(spreads.size(), 2u) << svg;
+  const Box area = plot_area(svg);
+  // The axis covers 40 to 100 (60 + 40, 97 + 6 cut at 100), padded 4% each way.
+  const auto y_of = [&](double value) { return area.bottom() - area.height * along(value, 40, 100); };
+  EXPECT_NE(spreads[0].find(fmt::format("L{:.2f},{:.2f}", area.left + area.width * along(0, 0, 2), y_of(60))),
+            std::string::npos) << spreads[0];
+  EXPECT_NE(spreads[0].find(fmt::format(",{:.2f} L", y_of(40))), std::string::npos) << spreads[0];
+  EXPECT_NE(spreads[1].find(fmt::format(",{:.2f}", y_of(100))), std::string::npos) << "cut at 100: " << spreads[1];
+  EXPECT_EQ(spreads[1].find(fmt::format(",{:.2f}", y_of(103))), std::string::npos) << spreads[1];
+
+  Figure bars = figure;
+  bars.kind = FigureKind::bars;
+  bars.x_categories = {"a", "b", "c"};
+  EXPECT_EQ(occurrences(render_svg(bars), "class=\"spread\""), 2u);
+  EXPECT_EQ(occurrences(render_svg(lines_figure({0, 1}, {1, 2})), "class=\"spread\""), 0u);
 }
 
 TEST(FigureSvg, ANonFiniteValueIsAGapInTheLine) {
@@ -345,6 +412,20 @@ TEST(FigureSvg, RefusesAFigureItCannotRender) {
   Figure bars = lines_figure({0, 1}, {1, 2});
   bars.kind = FigureKind::bars;
   refused(bars);
+  Figure spread = lines_figure({0, 1}, {1, 2});
+  spread.series[0].y_spread = {1};
+  refused(spread);  // one spread for two points
+  spread.series[0].y_spread = {1, -1};
+  refused(spread);
+  spread.series[0].y_spread = {1, gap};
+  EXPECT_NO_THROW(render_svg(spread));
+  Figure logarithmic = lines_figure({0, 10}, {1, 2});
+  logarithmic.x_log = true;
+  refused(logarithmic);  // 0 has no logarithm
+  logarithmic.series[0].x = {1, 10};
+  EXPECT_NO_THROW(render_svg(logarithmic));
+  logarithmic.x_categories = {"a", "b", "c", "d", "e", "f", "g", "h", "i", "j", "k"};
+  refused(logarithmic);
   figure.name = "Bad";
   std::string message;
   try {
@@ -427,6 +508,26 @@ TEST(FigurePgfplots, BarsAreYbarOverTheNamedCategories) {
   EXPECT_EQ(render_pgfplots(figure).find("ymin=0"), std::string::npos);  // a negative bar needs the axis below 0
 }
 
+TEST(FigurePgfplots, SpreadsAreErrorBarsAndALogarithmicAxisIsXmodeLog) {
+  Figure figure = lines_figure({5, 50, 1000}, {70, 97, 80});
+  figure.y_ceiling = 100;
+  figure.x_log = true;
+  figure.series[0].y_spread = {2.5, 6, gap};
+  figure.series.push_back({"orco", {5, 1000}, {60, 61}});
+  const std::string tex = render_pgfplots(figure);
+  SCOPED_TRACE(tex);
+  EXPECT_TRUE(braces_balance(tex));
+  EXPECT_NE(tex.find("xmode=log, log basis x=10, log ticks with fixed point, xmin="), std::string::npos);
+  EXPECT_NE(tex.find("xtick={10,100,1000}"), std::string::npos);
+  EXPECT_NE(tex.find("error bars/.cd, y dir=both, y explicit, error bar style={solid, thin, fscilfigure0}]"),
+            std::string::npos);
+  // 97 + 6 stops at 100; the point with one seed gets none.
+  EXPECT_NE(tex.find("coordinates {(5,70) += (0,2.5) -= (0,2.5) (50,97) += (0,3) -= (0,6) (1000,80) += (0,0) -= (0,0)};"),
+            std::string::npos);
+  EXPECT_NE(tex.find("coordinates {(5,60) (1000,61)};"), std::string::npos) << "a series without spread has no bars";
+  EXPECT_EQ(occurrences(tex, "error bars/.cd"), 1u);
+}
+
 TEST(FigurePgfplots, ScatterIsMarksOnlyWithEqualAxesAndTheUnitCircle) {
   Figure figure;
   figure.name = "prototypes";
@@ -494,6 +595,10 @@ TEST(FigureCsv, RoundTripsEveryValueAndLabel) {
   }
   const std::string numeric = render_figure_csv(lines_figure({0.125, 2}, {1e-5, 99.5}));
   EXPECT_EQ(numeric, "series,x,y\nprototype,0.125,1e-05\nprototype,2,99.5\n");
+  Figure spread = lines_figure({0, 1}, {80, 70});
+  spread.series[0].y_spread = {2.5, gap};
+  spread.series.push_back({"orco", {0}, {60}});
+  EXPECT_EQ(render_figure_csv(spread), "series,x,y,y_std\nprototype,0,80,2.5\nprototype,1,70,\norco,0,60,\n");
 }
 
 TEST(FigureWriter, WritesSvgTexAndCsvUnderFigures) {

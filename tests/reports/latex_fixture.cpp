@@ -1,6 +1,6 @@
 // Writes every kind of .tex the program writes (the results table, of three seeds and as the
 // ablation, the cost table, a reproduction's setting table, the selection-bias table, line and bar
-// figures; the embedding figure's scatter comes from the same pgfplots writer) from made-up runs
+// figures with seeds' whiskers, one on a logarithmic axis; the embedding figure's scatter comes from the same pgfplots writer) from made-up runs
 // with names LaTeX must escape, for the LaTeX test
 // (tests/reports/latex_compile_test.sh): fscil_latex_fixture DIR.
 #include <cstdio>
@@ -39,12 +39,17 @@ int main(int argc, char** argv) {
 
     std::vector<RunRecord> swept;
     for (const char* probes : {"5", "50", "1000"}) {
-      swept.push_back(in_cell(run_with_accuracies("cop-fscil", "simtex", 1, {90, 80, 70}), {{"pspc_probes", probes}}));
+      for (std::uint64_t seed = 1; seed <= 2; ++seed) {  // two seeds: the figures draw whiskers
+        const double shift = static_cast<double>(seed);
+        swept.push_back(in_cell(run_with_accuracies("cop-fscil", "simtex", seed, {90, 80 + shift, 70}),
+                                {{"pspc_probes", probes}}));
+      }
     }
     const SummaryTable sweep = summarize_runs(swept);
     write_file_atomically(folder / "nps.tex",
                           render_setting_latex(make_setting_table("nps", "Accuracy against N_ps", "cop-fscil", "simtex",
-                                                                  sweep, summarize_costs(swept), {}, true)));
+                                                                  sweep, summarize_costs(swept), {}, true,
+                                                                  {{"pspc_probes", "$N_{\\mathrm{ps}}$"}})));
     std::vector<RunRecord> selections;
     for (const char* selection : {"last", "test-oracle"}) {
       RunRecord run = run_with_accuracies("orco", "simtex", 1, {90, 70});
@@ -56,6 +61,7 @@ int main(int argc, char** argv) {
 
     write_figure(folder, session_accuracy_figure(three_seeds, "simtex", SessionMetric::all));
     for (const Figure& figure : efficiency_figures(costs, "simtex")) write_figure(folder, figure);
+    write_figure(folder, ablation_figure(three_seeds, "simtex", "ablation_simtex"));
     write_figure(folder, grid_metric_figure(sweep, "simtex", "pspc_probes", {"5", "50", "1000"}, "AA", "nps_simtex_AA",
                                             "AA against N_ps"));
   } catch (const std::exception& error) {

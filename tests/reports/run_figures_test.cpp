@@ -78,11 +78,13 @@ TEST(RunFigures, SessionZeroHasNoNovelAccuracyOrHarmonicMean) {
 }
 
 TEST(RunFigures, AFigureWithARowChosenOnTestSaysItIsInflated) {
-  EXPECT_EQ(session_accuracy_figure(sessions_table(false), "simtex", SessionMetric::all).note, "");
+  const std::string whiskers = "whiskers: one standard deviation over seeds either side";  // orco's two seeds
+  EXPECT_EQ(session_accuracy_figure(sessions_table(false), "simtex", SessionMetric::all).note, whiskers);
   EXPECT_EQ(session_accuracy_figure(sessions_table(true), "simtex", SessionMetric::all).note,
-            "selected on test (inflated)");
-  EXPECT_EQ(ablation_figure(sessions_table(true), "simtex", "ablation_simtex").note, "selected on test (inflated)");
-  EXPECT_EQ(ablation_figure(sessions_table(false), "simtex", "ablation_simtex").note, "");
+            "selected on test (inflated); " + whiskers);
+  EXPECT_EQ(ablation_figure(sessions_table(true), "simtex", "ablation_simtex").note,
+            "selected on test (inflated); " + whiskers);
+  EXPECT_EQ(ablation_figure(sessions_table(false), "simtex", "ablation_simtex").note, whiskers);
   // The oracle run is of simtex: the simtex-lmt figure carries no caveat.
   EXPECT_EQ(session_accuracy_figure(sessions_table(true), "simtex-lmt", SessionMetric::all).note, "");
 }
@@ -189,13 +191,61 @@ TEST(RunFigures, UpdateTimeFigureTakesEachCellsCostRowOneLinePerMethodAndOtherKe
   const Figure figure = grid_update_time_figure(costs, "simtex", "pspc_probes", {"5", "10", "50"}, "nps_time", "N_ps");
   EXPECT_NO_THROW(require_valid_figure(figure));
   ASSERT_EQ(figure.series.size(), 3u);
+  EXPECT_FALSE(figure.x_log) << "5 to 50: a linear axis";
+  EXPECT_TRUE(figure.x_categories.empty());
   EXPECT_EQ(figure.series[0].label, "cop-fscil");
-  expect_values(figure.series[0].x, {0, 2}, "cop-fscil x");
+  expect_values(figure.series[0].x, {5, 50}, "cop-fscil x");
   expect_values(figure.series[0].y, {0.10, 0.41}, "cop-fscil seconds");
   EXPECT_EQ(figure.series[1].label, "orco");
-  expect_values(figure.series[1].x, {0}, "orco x");
+  expect_values(figure.series[1].x, {5}, "orco x");
   EXPECT_EQ(figure.series[2].label, "cop-fscil [shot=1]");
   expect_values(figure.series[2].y, {9}, "cop-fscil at shot 1");
+}
+
+// Issue 70: the N_ps figure spaced 5 ... 1000 as equal categories.
+TEST(RunFigures, GridValuesSitAtTheirNumbersOnALogAxisWhereTheySpanDecadesAndAsCategoriesWhereNotNumbers) {
+  std::vector<RunRecord> runs;
+  for (const char* probes : {"1000", "5", "100"}) {
+    runs.push_back(in_cell(run_with_accuracies("cop-fscil", "simtex", 1, {90, 80}), {{"pspc_probes", probes}}));
+  }
+  const std::vector<std::string> probes = {"5", "100", "1000"};
+  const Figure nps = grid_metric_figure(summarize_runs(runs), "simtex", "pspc_probes", probes, "AA", "nps_aa", "");
+  EXPECT_NO_THROW(require_valid_figure(nps));
+  EXPECT_TRUE(nps.x_log);
+  EXPECT_TRUE(nps.x_categories.empty());
+  expect_values(nps.series[0].x, {5, 100, 1000}, "N_ps");
+
+  const Figure shots = grid_metric_figure(summarize_runs({in_cell(runs[0], {{"shot", "1"}}), in_cell(runs[1], {{"shot", "5"}})}),
+                                          "simtex", "shot", {"1", "5"}, "AA", "shot_aa", "");
+  EXPECT_FALSE(shots.x_log);
+  EXPECT_TRUE(shots.x_categories.empty());
+  expect_values(shots.series[0].x, {1, 5}, "shots");
+
+  const std::vector<std::string> spaces = {"raw", "standardised"};
+  const Figure named = grid_metric_figure(summarize_runs({in_cell(runs[0], {{"cpi_space", "raw"}})}), "simtex",
+                                          "cpi_space", spaces, "AA", "space_aa", "");
+  EXPECT_EQ(named.x_categories, spaces);
+  expect_values(named.series[0].x, {0}, "raw");
+}
+
+// Issue 70: figures plotted means only.
+TEST(RunFigures, EveryPointOfTwoOrMoreSeedsCarriesTheirStandardDeviationAndTheFigureSaysSo) {
+  const SummaryTable table = sessions_table(false);
+  const Figure all = session_accuracy_figure(table, "simtex", SessionMetric::all);
+  ASSERT_EQ(all.series.size(), 1u);
+  // orco's seeds: 90 and 80, 80 and 70, 70 and 60: a sample standard deviation of 7.0711 each.
+  expect_values(all.series[0].y_spread, {std::sqrt(50.0), std::sqrt(50.0), std::sqrt(50.0)}, "orco spread");
+  EXPECT_EQ(all.note, "whiskers: one standard deviation over seeds either side");
+  const Figure novel = session_accuracy_figure(table, "simtex", SessionMetric::novel);
+  EXPECT_TRUE(std::isnan(novel.series[0].y_spread[0])) << "session 0 has no novel classes";
+  const Figure one_seed = session_accuracy_figure(table, "simtex-lmt", SessionMetric::all);
+  EXPECT_FALSE(has_spread(one_seed));
+  EXPECT_EQ(one_seed.note, "") << "prototype ran one seed: nothing to say";
+
+  const Figure ablation = ablation_figure(table, "simtex", "ablation_simtex");
+  // AA 80 and 70 (std 7.0711); PD 20 both.
+  expect_values(ablation.series[0].y_spread, {std::sqrt(50.0)}, "AA spread");
+  expect_values(ablation.series[1].y_spread, {0}, "PD spread");
 }
 
 TEST(RunFigures, ContextRatioIsTheMeanOverSeedsPerSessionAndNoFigureWithoutIt) {
@@ -213,7 +263,9 @@ TEST(RunFigures, ContextRatioIsTheMeanOverSeedsPerSessionAndNoFigureWithoutIt) {
   expect_values(figure.series[0].y, {0.4, 0.7}, "R");
   EXPECT_TRUE(context_ratio_figure({unmeasured}, "simtex").series.empty());
   EXPECT_DOUBLE_EQ(figure.y_floor, 0) << "R is a ratio of dispersions";
-  EXPECT_EQ(figure.note, "");
+  expect_values(figure.series[0].y_spread, {std::sqrt(0.02), std::nan("")}, "R's spread over seeds 1 and 2");
+  EXPECT_EQ(figure.note, "whiskers: one standard deviation over seeds either side");
+  EXPECT_EQ(context_ratio_figure({first}, "simtex").note, "");
   RunRecord one_context = first;  // simtex-mini's test split: one recording per class
   for (auto& session : one_context.sessions) session.context_ratio_mean = 0;
   EXPECT_EQ(context_ratio_figure({one_context}, "simtex").note,

@@ -187,6 +187,16 @@ TEST(SettingTable, UpdateTimeComesFromTheCellsCostRow) {
             "| setting | Acc0 | PD | AA | ADR | update_s |\n|---|---:|---:|---:|---:|---:|\n"
             "| pspc_probes=5 | **96.00** | 24.00 | 84.00 | 25.00 | **0.20** (0.10) |\n"
             "| pspc_probes=10 | **96.00** | **20.00** | **86.00** | **20.83** | 0.30 (0.17) |\n\n");
+  // Issue 70: the LaTeX table read "pspc\_probes=5" and "update\_s" where the paper's has symbols.
+  SettingTable named = table;
+  named.latex_keys = {{"pspc_probes", "$N_{\\mathrm{ps}}$"}};
+  const std::string latex = render_setting_latex(named);
+  EXPECT_NE(latex.find(" & Update time (s)$\\downarrow$ \\\\\n"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\n$N_{\\mathrm{ps}}$ = 5 & "), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\n$N_{\\mathrm{ps}}$ = 10 & "), std::string::npos) << latex;
+  EXPECT_EQ(latex.find("pspc\\_probes"), std::string::npos) << latex;
+  EXPECT_NE(render_setting_latex(table).find("\npspc\\_probes=5 & "), std::string::npos) << "no name: as typed";
+
   const std::string csv = render_setting_csv(table);
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
             "table,dataset,method,setting,seeds,selected_on_test,Acc0,PD,AA,ADR,update_s,paper_Acc0,paper_PD,paper_AA,"

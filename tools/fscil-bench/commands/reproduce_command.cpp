@@ -79,10 +79,23 @@ Rendered beside_paper(const Results& results, const std::string& what) {
           render_paper_comparison_csv(rows), render_latex(results.table, what)};
 }
 
+// The swept keys as the paper's analysis tables name them, for their LaTeX rows.
+const std::vector<std::pair<std::string, std::string>>& paper_key_names() {
+  static const std::vector<std::pair<std::string, std::string>> names = {
+      {"pic_weight", "$\\lambda$"},
+      {"cpi_reference", "Reference statistics"},
+      {"cpi_support_coverage", "Support coverage"},
+      {"cpi_query_coverage", "Query coverage"},
+      {"shot", "Shots"},
+      {"pspc_probes", "$N_{\\mathrm{ps}}$"}};
+  return names;
+}
+
 Rendered setting_table(const Results& results, const char* name, const char* caption, const char* method,
                        bool update_time = false) {
   const SettingTable table = make_setting_table(name, caption, method, results.dataset, results.table, results.costs,
-                                                load_paper_analyses(paper_file("paper_analyses.csv")), update_time);
+                                                load_paper_analyses(paper_file("paper_analyses.csv")), update_time,
+                                                paper_key_names());
   return {render_setting_markdown(table), render_setting_csv(table), render_setting_latex(table)};
 }
 
