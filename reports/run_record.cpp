@@ -90,6 +90,12 @@ GridCell in_key_order(const GridCell& cell, const std::vector<std::string>& keys
   return ordered;
 }
 
+void add_new_keys(const GridCell& cell, std::vector<std::string>& keys) {
+  for (const auto& entry : cell) {
+    if (std::find(keys.begin(), keys.end(), entry.first) == keys.end()) keys.push_back(entry.first);
+  }
+}
+
 std::string grid_cell_name(const GridCell& grid) {
   std::string name;
   for (const auto& [key, value] : grid) name += (name.empty() ? "" : "+") + key + "=" + value;
@@ -333,11 +339,7 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   // One key order for every cell, so that a cell is one row (files written before the order was
   // kept are alphabetical).
   std::vector<std::string> keys;
-  for (const auto& record : records) {
-    for (const auto& entry : record.grid) {
-      if (std::find(keys.begin(), keys.end(), entry.first) == keys.end()) keys.push_back(entry.first);
-    }
-  }
+  for (const auto& record : records) add_new_keys(record.grid, keys);
   for (auto& record : records) record.grid = in_key_order(record.grid, keys);
   require_comparable_runs(records);
   return records;

@@ -33,6 +33,9 @@ GridCell without_key(GridCell cell, const std::string& key);
 bool same_cell(const GridCell& a, const GridCell& b);
 // `cell` with its keys in the order of `keys` (keys it lacks skipped), any others after, as they were.
 GridCell in_key_order(const GridCell& cell, const std::vector<std::string>& keys);
+// Appends to `keys` those of `cell` it does not hold yet, in the cell's order: over a folder's
+// cells, every key in order of first appearance (the one rule of a table's grid columns).
+void add_new_keys(const GridCell& cell, std::vector<std::string>& keys);
 
 // Everything one (method, dataset, seed) run produced: the schema of result files, from
 // which every report can be rebuilt.

@@ -61,11 +61,7 @@ SeriesLabels series_labels(const std::vector<SeriesName>& names, std::size_t wid
     for (auto& name : varying) name.method.clear();
   }
   std::vector<std::string> keys;  // every key of the figure, in the grid's order
-  for (const auto& name : names) {
-    for (const auto& entry : name.cell) {
-      if (std::find(keys.begin(), keys.end(), entry.first) == keys.end()) keys.push_back(entry.first);
-    }
-  }
+  for (const auto& name : names) add_new_keys(name.cell, keys);
   for (const std::string& key : keys) {
     const std::string* first = grid_value(names.front().cell, key);
     const bool constant = first != nullptr && std::all_of(names.begin(), names.end(), [&](const SeriesName& name) {

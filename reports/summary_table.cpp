@@ -42,12 +42,7 @@ std::vector<std::string> SummaryTable::datasets() const {
 
 std::vector<std::string> SummaryTable::grid_keys() const {
   std::vector<std::string> keys;
-  for (const auto& row : rows) {
-    for (const auto& [key, value] : row.grid) {
-      // A sweep over selection has its own column.
-      if (key != "selection" && std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
-    }
-  }
+  for (const auto& row : rows) add_new_keys(without_key(row.grid, "selection"), keys);  // selection has its own column
   return keys;
 }
 

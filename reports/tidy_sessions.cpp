@@ -31,13 +31,7 @@ std::string cell(const SessionField& field, const SessionOutcome& session) {
 
 std::string render_tidy_sessions_csv(const std::vector<RunRecord>& records) {
   std::vector<std::string> grid_keys;
-  for (const auto& record : records) {
-    for (const auto& [key, value] : record.grid) {
-      if (key != "selection" && std::find(grid_keys.begin(), grid_keys.end(), key) == grid_keys.end()) {
-        grid_keys.push_back(key);  // a sweep over selection has its own column
-      }
-    }
-  }
+  for (const auto& record : records) add_new_keys(without_key(record.grid, "selection"), grid_keys);  // its own column
   std::string out = "method,dataset";
   for (const auto& key : grid_keys) out += "," + key;
   out += ",split,selection,precision,seed";
