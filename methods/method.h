@@ -34,7 +34,8 @@ struct SessionData {
   // N, the recording each sample was cut from (dataset recording indices); empty where unknown,
   // then every sample counts as its own recording.
   std::vector<std::int64_t> recordings;
-  std::vector<std::int64_t> new_classes;  // classes this session introduces
+  std::vector<std::int64_t> new_classes;      // classes this session introduces
+  std::vector<std::int64_t> removed_classes;  // classes this session removes (removal=fciac); no samples then
 };
 
 struct InputShape {
@@ -144,6 +145,11 @@ class Method {
   virtual ~Method() = default;
   virtual void train_base(const SessionData& base, RunContext& context) = 0;
   virtual void learn_session(const SessionData& support, RunContext& context) = 0;
+  // A removing session of the class-variable protocol (removal=fciac) instead of learn_session:
+  // `classes` leave now and never return. Whatever a method does, the runner drops their rows
+  // from every later decision; a method overrides this to forget them in its own state as its
+  // paper does. By default its state stays as it is (its replay of them included).
+  virtual void forget_classes(const std::vector<std::int64_t>& /*classes*/, RunContext& /*context*/) {}
   // features: N x C x n_mels x frames -> N x D, the embedding the classifier uses (eval mode).
   virtual torch::Tensor embed(const torch::Tensor& features) = 0;
   // N x D embeddings -> N x seen classes.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -137,6 +138,7 @@ SessionData gather_session(const PreparedDataset& dataset, const SessionSchedule
   for (std::int64_t index : indices) data.recordings.push_back(dataset.segments.recording_index[index]);
   const SessionPlan& plan = schedule.plan;
   for (int c = plan.first_class_of(session); c < plan.seen_after(session); ++c) data.new_classes.push_back(c);
+  for (int c : plan.removed_in(session)) data.removed_classes.push_back(c);
   return data;
 }
 
@@ -155,7 +157,8 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   const SessionPlan& plan = schedule.plan;
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const std::vector<std::int64_t>& scored_segments = schedule.scored_segments(scored);
-  const torch::Tensor test_labels = torch::tensor(schedule.labels_of(scored_segments), torch::kLong);
+  const std::vector<std::int64_t> scored_labels = schedule.labels_of(scored_segments);
+  const torch::Tensor test_labels = torch::tensor(scored_labels, torch::kLong);
   context.validation = &validation;
   describe_protocol(context, dataset, schedule);
 
@@ -167,7 +170,15 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   if (!outcomes.empty()) scored_embeddings.keep_up_to(method, static_cast<int>(outcomes.size()) - 1);
   for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
-    if (context.progress != nullptr) {
+    const bool removing = session > 0 && !plan.adds_classes(session);
+    const std::vector<int> removed = plan.removed_by(session);  // in increasing order
+    const auto is_removed = [&](std::int64_t label) {
+      return std::binary_search(removed.begin(), removed.end(), static_cast<int>(label));
+    };
+    if (context.progress != nullptr && removing) {
+      context.progress->stage(fmt::format("session {}/{}: removes classes {}", session, plan.sessions - 1,
+                                          fmt::join(data.removed_classes, ", ")));
+    } else if (context.progress != nullptr) {
       context.progress->stage(fmt::format("session {}/{}: {} classes, {} training samples", session, plan.sessions - 1,
                                           data.new_classes.size(), data.labels.size(0)));
     }
@@ -175,18 +186,22 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (context.selection == EpochSelection::test_oracle) {
       std::vector<std::int64_t> seen_test;
       for (std::int64_t segment : schedule.scored_segments(EvaluationSplit::test)) {
-        if (schedule.label[segment] < plan.seen_after(session)) seen_test.push_back(segment);
+        if (schedule.label[segment] < plan.seen_after(session) && !is_removed(schedule.label[segment])) {
+          seen_test.push_back(segment);
+        }
       }
       oracle_test = gather_session(dataset, schedule, seen_test, session);
     }
     context.oracle_test = oracle_test ? &*oracle_test : nullptr;
     SessionOutcome outcome;
     outcome.session = session;
-    outcome.seen_classes = plan.seen_after(session);
+    outcome.seen_classes = plan.seen_after(session) - static_cast<int>(removed.size());  // the classes scored
     context.diagnostics.clear();
     context.training_log.clear();
     context.session_clock = Stopwatch();
-    if (session > 0) {
+    if (removing) {
+      method.forget_classes(data.removed_classes, context);
+    } else if (session > 0) {
       method.learn_session(data, context);
     } else if (!inherited_base) {
       method.train_base(data, context);
@@ -202,14 +217,28 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (session == 0) note_training_verdict(outcome, context.progress);
 
     Stopwatch test_clock;
-    const std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
+    // A removed class's samples are not scored, and its row takes part in no decision.
+    std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
+    torch::Tensor seen_embeddings = scored_embeddings.embeddings_after(method, session);
+    if (!removed.empty()) {
+      std::vector<std::int64_t> kept, kept_rows;
+      for (std::size_t i = 0; i < seen.size(); ++i) {
+        if (is_removed(scored_labels[static_cast<std::size_t>(seen[i])])) continue;
+        kept.push_back(seen[i]);
+        kept_rows.push_back(static_cast<std::int64_t>(i));
+      }
+      seen = std::move(kept);
+      seen_embeddings = seen_embeddings.index_select(0, torch::tensor(kept_rows, torch::kLong));
+    }
+    const torch::Tensor removed_rows = torch::tensor(std::vector<std::int64_t>(removed.begin(), removed.end()), torch::kLong);
     std::vector<std::int64_t> seen_segments;
     for (std::int64_t position : seen) seen_segments.push_back(scored_segments[position]);
-    const torch::Tensor seen_embeddings = scored_embeddings.embeddings_after(method, session);
     std::vector<torch::Tensor> predictions, embeddings;
     for (std::int64_t first = 0; first < seen_embeddings.size(0); first += ScoredEmbeddings::kBatch) {
       const torch::Tensor embedding = seen_embeddings.narrow(0, first, std::min(ScoredEmbeddings::kBatch, seen_embeddings.size(0) - first));
-      predictions.push_back(method.classify(embedding).argmax(1));
+      torch::Tensor logits = method.classify(embedding);
+      if (!removed.empty()) logits = logits.index_fill(1, removed_rows, -std::numeric_limits<float>::infinity());
+      predictions.push_back(logits.argmax(1));
       if (!segment_contexts.empty()) {
         embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
       }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <numeric>
 
 #include "core/parameter_set.h"
@@ -10,9 +11,45 @@
 
 namespace fscil {
 
+bool SessionPlan::adds_classes(int session) const {
+  return session >= 1 && (removal == ClassRemoval::none || session % 2 == 1);
+}
+
+int SessionPlan::adding_sessions_up_to(int session) const {
+  if (session <= 0) return 0;
+  return removal == ClassRemoval::none ? session : (session + 1) / 2;
+}
+
+int SessionPlan::first_class_of(int session) const {
+  if (session == 0) return 0;
+  return adds_classes(session) ? seen_after(session - 1) : seen_after(session);
+}
+
 int SessionPlan::session_of_class(int protocol_class) const {
   if (protocol_class < base_classes) return 0;
-  return 1 + (protocol_class - base_classes) / way;
+  const int block = (protocol_class - base_classes) / way;
+  return removal == ClassRemoval::none ? 1 + block : 1 + 2 * block;
+}
+
+std::vector<int> SessionPlan::removed_in(int session) const {
+  if (session <= 0 || adds_classes(session)) return {};
+  const int earlier = session / 2 - 1;  // removing sessions before this one: 2, 4, ...
+  std::vector<int> classes;
+  for (int c = base_classes - removed_base * (earlier + 1); c < base_classes - removed_base * earlier; ++c) {
+    classes.push_back(c);
+  }
+  for (int c = seen_after(session) - removed_novel; c < seen_after(session); ++c) classes.push_back(c);
+  return classes;
+}
+
+std::vector<int> SessionPlan::removed_by(int session) const {
+  std::vector<int> classes;
+  for (int s = 1; s <= session; ++s) {
+    const std::vector<int> removed = removed_in(s);
+    classes.insert(classes.end(), removed.begin(), removed.end());
+  }
+  std::sort(classes.begin(), classes.end());
+  return classes;
 }
 
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
@@ -22,10 +59,23 @@ SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaul
   plan.way = static_cast<int>(params.integer("way", defaults.way, ValidRange::at_least(1)));
   plan.shot = static_cast<int>(params.integer("shot", defaults.shot, ValidRange::at_least(1)));
   plan.sessions = static_cast<int>(params.integer("sessions", defaults.sessions, ValidRange::at_least(1)));
+  // Read only when given, so that add-only runs keep the identity they had before removal existed.
+  if (params.contains("removal") &&
+      params.choice("removal", "none", {"none", "fciac"}) == "fciac") {
+    plan.removal = ClassRemoval::fciac;
+    plan.removed_base = static_cast<int>(params.integer("removed_base", plan.removed_base, ValidRange::at_least(0)));
+    plan.removed_novel =
+        static_cast<int>(params.integer("removed_novel", plan.removed_novel, ValidRange::between(0, plan.way)));
+    const int removing = (plan.sessions - 1) / 2;
+    if (plan.removed_base * removing >= plan.base_classes) {
+      throw ProtocolError(fmt::format("removal=fciac: {} removing sessions x removed_base={} would remove all {} base "
+                                      "classes", removing, plan.removed_base, plan.base_classes));
+    }
+  }
   if (plan.total_classes() > dataset_classes) {
-    throw ProtocolError(fmt::format("session plan needs {} classes ({} base + {} sessions x {}-way) but the "
-                                    "dataset has {}", plan.total_classes(), plan.base_classes, plan.sessions - 1,
-                                    plan.way, dataset_classes));
+    throw ProtocolError(fmt::format("session plan needs {} classes ({} base + {} adding sessions x {}-way) but the "
+                                    "dataset has {}", plan.total_classes(), plan.base_classes,
+                                    plan.adding_sessions_up_to(plan.sessions - 1), plan.way, dataset_classes));
   }
   std::vector<int> order(dataset_classes);
   std::iota(order.begin(), order.end(), 0);

@@ -151,7 +151,7 @@ Figure session_accuracy_figure(const SummaryTable& table, const std::string& dat
   Figure figure;
   figure.name = stem(fmt::format("sessions_{}_{}", dataset, suffix));
   figure.title = fmt::format("Accuracy per session on {} ({}, {} split{})", dataset, suffix, table.evaluated_on,
-                             table.precision_note());
+                             table.title_note());
   figure.x_label = "session";
   figure.y_label = y_label;
   figure.y_floor = 0;
@@ -266,7 +266,7 @@ std::vector<Figure> efficiency_figures(const std::vector<CostRow>& costs, const 
 Figure ablation_figure(const SummaryTable& table, const std::string& dataset, const std::string& name) {
   Figure figure;
   figure.name = stem(name);
-  figure.title = fmt::format("Ablation on {} ({} split{})", dataset, table.evaluated_on, table.precision_note());
+  figure.title = fmt::format("Ablation on {} ({} split{})", dataset, table.evaluated_on, table.title_note());
   figure.kind = FigureKind::bars;
   figure.x_label = "variant";
   figure.y_label = "%";

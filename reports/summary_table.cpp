@@ -24,8 +24,20 @@ std::vector<StageConvergence> base_stages(const RunRecord& record) {
 
 }  // namespace
 
-std::string SummaryTable::precision_note() const {
-  return precision == "fp32" ? std::string() : ", encoder in " + precision;
+namespace {
+
+// "none" for files written before the class-variable protocol existed.
+std::string removal_of(const RunRecord& record) {
+  const auto found = record.protocol_parameters.find("removal");
+  return found == record.protocol_parameters.end() ? "none" : found->second;
+}
+
+}  // namespace
+
+std::string SummaryTable::title_note() const {
+  std::string note = precision == "fp32" ? std::string() : ", encoder in " + precision;
+  if (removal != "none") note += ", class-variable sessions (removal=" + removal + ")";
+  return note;
 }
 
 bool SummaryTable::several_seeds() const {
@@ -104,6 +116,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
   if (!records.empty()) {
     table.evaluated_on = records.front().evaluated_on;
     table.precision = precision_of(records.front());
+    table.removal = removal_of(records.front());
   }
   for (const auto& record : records) {
     if (record.evaluated_on != table.evaluated_on) {
@@ -111,6 +124,12 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
                                     "report them from separate directories", records.front().method,
                                     records.front().dataset, records.front().seed, table.evaluated_on, record.method,
                                     record.dataset, record.seed, record.evaluated_on));
+    }
+    if (removal_of(record) != table.removal) {
+      throw ReportError(fmt::format("{} on {} seed {} ran with removal={}, {} on {} seed {} with removal={}: report "
+                                    "them from separate directories", records.front().method, records.front().dataset,
+                                    records.front().seed, table.removal, record.method, record.dataset, record.seed,
+                                    removal_of(record)));
     }
     if (precision_of(record) != table.precision) {
       throw ReportError(fmt::format("{} on {} seed {} was made in {}, {} on {} seed {} in {}: report them from "

@@ -41,8 +41,10 @@ struct SummaryTable {
   std::vector<SummaryRow> rows;  // in order of first appearance
   std::string evaluated_on = "test";  // the split every run was scored on (RunRecord::evaluated_on)
   std::string precision = "fp32";     // what every run's encoder computed in (precision_of)
-  // ", encoder in bf16" for a title or caption; "" for fp32, whose tables are named as they always were.
-  std::string precision_note() const;
+  std::string removal = "none";       // protocol_parameters' removal: "fciac" for class-variable sessions
+  // What a title or caption adds for runs unlike the usual ones: ", encoder in bf16", ",
+  // class-variable sessions (removal=fciac)"; "" for fp32 add-only runs, named as they always were.
+  std::string title_note() const;
   bool several_seeds() const;
   std::vector<std::string> datasets() const;
   // The sweep keys of any row but selection (a column of its own), in order of first appearance:

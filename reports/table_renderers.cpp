@@ -205,7 +205,7 @@ std::string render_latex(const SummaryTable& table, const std::string& what) {
     const std::string imitated = paper_dataset_of(dataset, &simulated);
     const std::string data = simulated ? fmt::format("{} (simulated, standing in for {})", dataset, imitated) : dataset;
     out += fmt::format("\\caption{{{} on {}, {} split{}{}.}}\n", latex_text(what), latex_text(data), table.evaluated_on,
-                       table.precision_note(), with_std ? " (mean $\\pm$ std over seeds)" : "");
+                       table.title_note(), with_std ? " (mean $\\pm$ std over seeds)" : "");
     const auto grid_keys = table.grid_keys();
     out += fmt::format("\\begin{{tabular}}{{{}l{}ccc}}\n\\toprule\n", std::string(grid_keys.size(), 'l'),
                        std::string(sessions, 'c'));
@@ -250,7 +250,7 @@ std::string render_markdown(const SummaryTable& table) {
     const auto rows = rows_of(table, dataset);
     const auto columns = paper_columns(max_sessions(rows));
     const auto grid_keys = table.grid_keys();
-    out += fmt::format("### {}, {} split{}{}\n\n|", dataset, table.evaluated_on, table.precision_note(),
+    out += fmt::format("### {}, {} split{}{}\n\n|", dataset, table.evaluated_on, table.title_note(),
                        with_std ? " (mean ± std over seeds)" : "");
     for (const auto& key : grid_keys) out += fmt::format(" {} |", key);
     out += " method |";

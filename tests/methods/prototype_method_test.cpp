@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <functional>
+#include <memory>
 #include <sstream>
 
 #include "core/stop_request.h"
@@ -52,13 +54,16 @@ class PrototypeOnSimtexMini : public ::testing::Test {
   }
   static void TearDownTestSuite() { delete dataset_; }
 
-  std::vector<SessionOutcome> run(std::uint64_t seed) {
-    ParameterSet params;
+  // `protocol` holds protocol keys (removal=fciac); `wrap` may put a test method around prototype's.
+  std::vector<SessionOutcome> run(std::uint64_t seed, const ParameterSet& protocol = ParameterSet(),
+                                  const std::function<std::unique_ptr<Method>(std::unique_ptr<Method>)>& wrap = {}) {
+    ParameterSet params = protocol;
     apply_profile("smoke", params);
     const SessionPlan plan = make_session_plan(20, dataset_->description.sessions, params, seed);
     const SessionSchedule schedule = build_session_schedule(dataset_->segments, dataset_->description.class_names, plan,
                                                             SplitMode::recording, seed);
     auto method = create_method("prototype", params);
+    if (wrap) method = wrap(std::move(method));
     torch::manual_seed(seed);
     RunContext context;
     context.seed = seed;
@@ -89,6 +94,69 @@ TEST_F(PrototypeOnSimtexMini, LearnsFarAboveChanceAndRepeatsExactlyWithTheSameSe
   EXPECT_GT(first[2].diagnostics.at("scored_base_as_novel") + first[2].diagnostics.at("scored_novel_as_base"), 0.0);
   const auto again = run(1);
   for (std::size_t s = 0; s < first.size(); ++s) EXPECT_EQ(first[s].accuracy.all, again[s].accuracy.all);
+}
+
+// What the runner asked of a method: the sessions it learned and the classes it was told to forget.
+struct MethodCalls {
+  std::vector<int> learned;
+  std::vector<std::vector<std::int64_t>> forgotten;
+};
+
+// Prototype's method, with one row that wins every decision it takes part in.
+class FavouringOneRow : public Method {
+ public:
+  FavouringOneRow(std::unique_ptr<Method> inner, int favoured, MethodCalls& calls)
+      : inner_(std::move(inner)), favoured_(favoured), calls_(calls) {}
+  void train_base(const SessionData& base, RunContext& context) override { inner_->train_base(base, context); }
+  void learn_session(const SessionData& support, RunContext& context) override {
+    calls_.learned.push_back(support.session);
+    inner_->learn_session(support, context);
+  }
+  void forget_classes(const std::vector<std::int64_t>& classes, RunContext&) override {
+    calls_.forgotten.push_back(classes);
+  }
+  torch::Tensor embed(const torch::Tensor& features) override { return inner_->embed(features); }
+  torch::Tensor classify(const torch::Tensor& embeddings) override {
+    torch::Tensor logits = inner_->classify(embeddings);
+    if (logits.size(1) > favoured_) logits.select(1, favoured_).add_(1000);
+    return logits;
+  }
+  MethodState save_state() const override { return inner_->save_state(); }
+  void restore_state(const MethodState& state, RunContext& context) override { inner_->restore_state(state, context); }
+  ModelCost inference_cost(const InputShape& input) const override { return inner_->inference_cost(input); }
+
+
+ private:
+  std::unique_ptr<Method> inner_;
+  int favoured_;
+  MethodCalls& calls_;
+};
+
+// Issue 71: simtex-mini's 3 sessions under removal=fciac: session 1 adds classes 10-14, session 2
+// removes base class 9 and novel class 14. A removed class's samples are no longer scored, and
+// its row takes part in no decision, whatever the method's logits say.
+TEST_F(PrototypeOnSimtexMini, TheClassVariableProtocolScoresThePresentClassesOverTheirRowsOnly) {
+  ParameterSet protocol;
+  protocol.set("removal", "fciac");
+  MethodCalls calls;
+  const auto outcomes = run(1, protocol, [&](std::unique_ptr<Method> inner) {
+    return std::unique_ptr<Method>(std::make_unique<FavouringOneRow>(std::move(inner), 14, calls));
+  });
+  ASSERT_EQ(outcomes.size(), 3u);
+  EXPECT_EQ(calls.learned, (std::vector<int>{1})) << "a removing session trains nothing";
+  ASSERT_EQ(calls.forgotten.size(), 1u);
+  EXPECT_EQ(calls.forgotten[0], (std::vector<std::int64_t>{9, 14}));
+  EXPECT_EQ(outcomes[1].seen_classes, 15);
+  EXPECT_EQ(outcomes[2].seen_classes, 13) << "the classes scored";
+  EXPECT_EQ(outcomes[1].accuracy.samples, 15 * 5);
+  EXPECT_EQ(outcomes[2].accuracy.samples, 13 * 5);
+  // In session 1 row 14 is a class of its own and takes every sample: only its 5 are right.
+  EXPECT_NEAR(outcomes[1].accuracy.all, 100.0 * 5 / 75, 1e-9);
+  // Removed, it wins nothing (had it, every sample would be wrong): the session scores prototype's
+  // own decisions among the 13 classes, far above their chance of 7.7%.
+  EXPECT_GT(outcomes[2].accuracy.all, 30.0);
+  EXPECT_NEAR(outcomes[0].accuracy.all, run(1)[0].accuracy.all, 1e-9);
+  EXPECT_EQ(outcomes[2].accuracy.current, 0.0) << "a removing session introduces no class";
 }
 
 TEST(MethodRegistry, ResolvesAllAndRejectsUnknownNames) {

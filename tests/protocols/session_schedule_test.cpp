@@ -65,6 +65,53 @@ TEST(SessionPlan, FollowsTheDatasetProtocolAndItsOverrides) {
   EXPECT_THROW(plan_for(120, {75, 5, 5, 10}, params), ProtocolError);
 }
 
+// Issue 71: FCIAC's LS-100 protocol (60 base classes, 9 sessions, 5-way), as its release removes
+// them (docs/compared_methods.md, PA-PCT): session 2 removes 59 and 64, 4 removes 58 and 69, 6
+// removes 57 and 74, 8 removes 56 and 79; 72 classes remain.
+TEST(SessionPlan, TheClassVariableProtocolAddsInOddAndRemovesInEvenSessionsAsFciacDoes) {
+  ParameterSet params;
+  params.set("removal", "fciac");
+  const SessionPlan ls100 = plan_for(100, {60, 5, 5, 9}, params);
+  EXPECT_EQ(ls100.total_classes(), 80);
+  for (int session : {1, 3, 5, 7}) EXPECT_TRUE(ls100.adds_classes(session)) << session;
+  for (int session : {0, 2, 4, 6, 8}) EXPECT_FALSE(ls100.adds_classes(session)) << session;
+  EXPECT_EQ(ls100.seen_after(1), 65);
+  EXPECT_EQ(ls100.seen_after(2), 65);
+  EXPECT_EQ(ls100.first_class_of(3), 65);
+  EXPECT_EQ(ls100.first_class_of(2), ls100.seen_after(2)) << "a removing session adds nothing";
+  EXPECT_EQ(ls100.session_of_class(64), 1);
+  EXPECT_EQ(ls100.session_of_class(65), 3);
+  EXPECT_EQ(ls100.session_of_class(79), 7);
+  EXPECT_TRUE(ls100.removed_in(1).empty());
+  EXPECT_EQ(ls100.removed_in(2), (std::vector<int>{59, 64}));
+  EXPECT_EQ(ls100.removed_in(4), (std::vector<int>{58, 69}));
+  EXPECT_EQ(ls100.removed_in(6), (std::vector<int>{57, 74}));
+  EXPECT_EQ(ls100.removed_in(8), (std::vector<int>{56, 79}));
+  EXPECT_EQ(ls100.removed_by(8), (std::vector<int>{56, 57, 58, 59, 64, 69, 74, 79}));
+  EXPECT_EQ(ls100.seen_after(8) - static_cast<int>(ls100.removed_by(8).size()), 72);
+  EXPECT_EQ(params.used().at("removal"), "fciac");
+
+  // Without it the plan is the add-only one, and `removal` is not read: a run's identity stays.
+  ParameterSet plain;
+  const SessionPlan add_only = plan_for(100, {60, 5, 5, 9}, plain);
+  EXPECT_EQ(add_only.total_classes(), 100);
+  EXPECT_TRUE(add_only.removed_by(8).empty());
+  EXPECT_EQ(plain.used().count("removal"), 0u);
+
+  params.set("removed_base", "2");
+  params.set("removed_novel", "3");
+  const SessionPlan more = plan_for(100, {60, 5, 5, 9}, params);
+  EXPECT_EQ(more.removed_in(4), (std::vector<int>{56, 57, 67, 68, 69}));
+  params.set("removed_base", "15");  // 4 removing sessions x 15 = every base class
+  EXPECT_THROW(plan_for(100, {60, 5, 5, 9}, params), ProtocolError);
+  params.set("removed_base", "1");
+  params.set("removed_novel", "6");  // more than a session adds
+  EXPECT_THROW(plan_for(100, {60, 5, 5, 9}, params), ProtocolError);
+  params.set("removed_novel", "1");
+  params.set("removal", "sometimes");
+  EXPECT_THROW(plan_for(100, {60, 5, 5, 9}, params), ProtocolError);
+}
+
 TEST(SessionPlan, ShuffledOrderIsAPermutationDrawnFromTheSeed) {
   ParameterSet params;
   params.set("class_order", "shuffled");

@@ -205,6 +205,9 @@ TEST(RunRecord, AFileIsCheckedAsAWhole) {
   RunRecord shrinking = three;
   shrinking.sessions[2].seen_classes = 15;
   EXPECT_EQ(refusal(shrinking), "odd.json: session 2 has 15 seen classes, expected more than 15");
+  shrinking.sessions[2].seen_classes = 13;  // the class-variable protocol: session 2 removed two
+  shrinking.protocol_parameters["removal"] = "fciac";
+  EXPECT_EQ(refusal(shrinking), "accepted");
   RunRecord no_classes = three;
   no_classes.sessions[0].seen_classes = 0;
   EXPECT_EQ(refusal(no_classes), "odd.json: session 0 has 0 seen classes, expected more than 0");
@@ -498,6 +501,22 @@ TEST(SummaryTable, SaysWhenTheEncoderRanInBf16AndNeverMixesItWithFp32) {
   const SummaryTable fp32 = summarize_runs({record_of("prototype", 1, {80, 70})});
   EXPECT_NE(render_markdown(fp32).find("### simtex, test split\n"), std::string::npos) << render_markdown(fp32);
   EXPECT_NE(render_csv(fp32).find(",test,last,fp32,1,"), std::string::npos) << render_csv(fp32);
+}
+
+// Issue 71: class-variable sessions are another protocol: the tables say so, and never mix them
+// with add-only runs.
+TEST(SummaryTable, SaysWhenSessionsRemovedClassesAndNeverMixesThemWithAddOnlyRuns) {
+  RunRecord variable = record_of("prototype", 1, {80, 70});
+  variable.protocol_parameters["removal"] = "fciac";
+  const SummaryTable table = summarize_runs({variable});
+  EXPECT_EQ(table.removal, "fciac");
+  EXPECT_NE(render_markdown(table).find("### simtex, test split, class-variable sessions (removal=fciac)"),
+            std::string::npos) << render_markdown(table);
+  EXPECT_NE(render_latex(table).find("test split, class-variable sessions (removal=fciac)"), std::string::npos);
+  RunRecord add_only = record_of("prototype", 2, {82, 72});
+  add_only.protocol_parameters["sessions"] = "2";
+  variable.protocol_parameters["sessions"] = "2";
+  EXPECT_THROW(summarize_runs({variable, add_only}), ReportError);
 }
 
 TEST(SummaryTable, LatexAndMarkdownMarkTheBestOfEachColumn) {
