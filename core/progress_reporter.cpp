@@ -15,6 +15,9 @@ void ProgressReporter::line(const std::string& text) {
 
 void ProgressReporter::stage(const std::string& what) {
   stage_clock_ = Stopwatch();
+  phase_.clear();
+  phase_epoch_ = 0;
+  phase_started_at_ = last_epoch_at_ = 0;
   {
     const std::lock_guard<std::mutex> lock(said_->lines);
     said_->stage = what;
@@ -24,7 +27,12 @@ void ProgressReporter::stage(const std::string& what) {
 
 void ProgressReporter::epoch(const std::string& phase, int epoch, int epochs, double loss) {
   if (out_ == nullptr) return;
-  const double elapsed = stage_clock_.seconds();
+  const double now = stage_clock_.seconds();
+  if (phase != phase_ || epoch <= phase_epoch_) phase_started_at_ = last_epoch_at_;  // a new phase began
+  phase_ = phase;
+  phase_epoch_ = epoch;
+  last_epoch_at_ = now;
+  const double elapsed = now - phase_started_at_;
   const double eta = epoch > 0 ? elapsed / epoch * (epochs - epoch) : 0.0;
   line(fmt::format("  {} epoch {}/{} loss {:.4f} elapsed {:.0f}s ETA {:.0f}s", phase, epoch, epochs, loss, elapsed, eta));
 }

@@ -20,7 +20,8 @@ class ProgressReporter {
 
   // A new stage, e.g. "prototype seed 1 | session 0 (base, 75 classes)".
   void stage(const std::string& what);
-  // One finished epoch of `epochs` in the current stage.
+  // One finished epoch of `epochs` of `phase` in the current stage; its elapsed time and ETA count
+  // from the end of the phase before (a stage's pretraining, then its pseudo-incremental phase).
   void epoch(const std::string& phase, int epoch, int epochs, double loss);
   void note(const std::string& message);
   bool silent() const { return out_ == nullptr; }
@@ -36,6 +37,10 @@ class ProgressReporter {
 
   std::ostream* out_;
   Stopwatch stage_clock_;
+  std::string phase_;             // of the last epoch line
+  int phase_epoch_ = 0;           // its epoch
+  double phase_started_at_ = 0;   // on stage_clock_: where the phase's first epoch began
+  double last_epoch_at_ = 0;      // on stage_clock_: the last epoch line
   std::shared_ptr<Said> said_;
 };
 

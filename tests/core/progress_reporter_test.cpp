@@ -33,5 +33,19 @@ TEST(ProgressReporter, AHeartbeatSpeaksOnlyAfterItsSilence) {
   EXPECT_NE(after.find("still working"), std::string::npos) << "after the note, not before";
 }
 
+// The sf-instruments lane printed "pseudo-incremental epoch 1/40 ... elapsed 1325s ETA 51661s":
+// the pretraining before it counted as that phase's first epoch.
+TEST(ProgressReporter, APhasesTimeToGoCountsFromTheEndOfThePhaseBefore) {
+  std::ostringstream out;
+  ProgressReporter progress(&out);
+  progress.stage("pits-sc on simtex, seed 1");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1600));
+  progress.epoch("pretrain", 1, 1, 1.5);
+  progress.epoch("pseudo-incremental", 1, 40, 0.5);
+  const std::string said = out.str();
+  EXPECT_NE(said.find("pretrain epoch 1/1 loss 1.5000 elapsed 2s ETA 0s"), std::string::npos) << said;
+  EXPECT_NE(said.find("pseudo-incremental epoch 1/40 loss 0.5000 elapsed 0s ETA 0s"), std::string::npos) << said;
+}
+
 }  // namespace
 }  // namespace fscil
