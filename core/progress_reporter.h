@@ -39,7 +39,7 @@ class ProgressReporter {
   Stopwatch stage_clock_;
   std::string phase_;             // of the last epoch line
   int phase_epoch_ = 0;           // its epoch
-  double phase_started_at_ = 0;   // on stage_clock_: where the phase's first epoch began
+  double phase_started_at_ = 0;   // on stage_clock_: the phase before's last epoch line (or the stage's start)
   double last_epoch_at_ = 0;      // on stage_clock_: the last epoch line
   std::shared_ptr<Said> said_;
 };

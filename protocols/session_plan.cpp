@@ -52,6 +52,24 @@ std::vector<int> SessionPlan::removed_by(int session) const {
   return classes;
 }
 
+std::string describe_removal(const SessionPlan& plan) {
+  if (plan.removal == ClassRemoval::none) return "";
+  std::vector<int> adding;
+  std::vector<std::string> removing;
+  for (int session = 1; session < plan.sessions; ++session) {
+    if (plan.adds_classes(session)) {
+      adding.push_back(session);
+    } else {
+      removing.push_back(fmt::format("session {} removes {}", session, fmt::join(plan.removed_in(session), ", ")));
+    }
+  }
+  const int last = plan.sessions - 1;
+  return fmt::format("class-variable sessions (removal=fciac): sessions {} add {} classes each; {}; {} of {} classes "
+                     "remain",
+                     fmt::join(adding, ", "), plan.way, fmt::join(removing, "; "),
+                     plan.seen_after(last) - static_cast<int>(plan.removed_by(last).size()), plan.seen_after(last));
+}
+
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
                               const ParameterSet& params, std::uint64_t seed) {
   SessionPlan plan;

@@ -23,8 +23,9 @@ struct SessionPlan {
   int shot = 0;
   int sessions = 0;  // including the base session
   ClassRemoval removal = ClassRemoval::none;
-  // With removal: classes each removing session takes away, FCIAC's rule (its `CANetwork.py`
-  // L531-L559): the highest remaining base classes, and the last classes of the newest added block.
+  // With removal: classes each removing session takes away, FCIAC's rule (its
+  // `dataloader/dataloader.py` L276-L335; `CANetwork.py` L531-L559 zeroes their rows): the highest
+  // remaining base classes, and the last classes of the newest added block.
   int removed_base = 1, removed_novel = 1;
   std::vector<int> class_order;
 
@@ -43,6 +44,11 @@ struct SessionPlan {
   // Every class removed in sessions 1..session, in increasing order.
   std::vector<int> removed_by(int session) const;
 };
+
+// One line for a run's progress and the docs: "" without removal, else which sessions add and which
+// classes each removing session removes, e.g. "class-variable sessions (removal=fciac): sessions 1,
+// 3 add 5 classes each; session 2 removes 9, 14; 13 of 15 classes remain".
+std::string describe_removal(const SessionPlan& plan);
 
 // Reads base_classes, way, shot, sessions, class_order (natural|shuffled) and removal
 // (none|fciac, with removed_base and removed_novel) from params, defaulting to the dataset's

@@ -65,10 +65,11 @@ std::vector<CostRow> summarize_costs(const std::vector<RunRecord>& records) {
     row.trainable_millions =
         std::max(row.trainable_millions, static_cast<double>(record.inference.trainable_parameters) / 1e6);
     row.inference_ms_per_sample += 1e3 * record.inference.seconds_per_sample;
-    for (const auto& session : record.sessions) {
-      if (session.session == 0) {
+    for (std::size_t s = 0; s < record.sessions.size(); ++s) {
+      const SessionOutcome& session = record.sessions[s];
+      if (s == 0) {
         row.base_train_seconds += session.train_seconds;
-      } else {
+      } else if (session.seen_classes >= record.sessions[s - 1].seen_classes) {  // a removing session trains nothing
         row.update_seconds += session.train_seconds;
         ++update_counts[index];
       }

@@ -21,7 +21,7 @@ std::string csv_number(double value) { return std::isfinite(value) ? fmt::format
 
 std::string render_figure_csv(const Figure& figure) {
   require_valid_figure(figure);
-  // y_std, the spread over seeds, only where the figure draws one (NaN where a point has none).
+  // y_std, the spread over seeds, only where the figure draws one (empty where a point has none).
   const bool spread = has_spread(figure);
   std::string out = spread ? "series,x,y,y_std\n" : "series,x,y\n";
   for (const auto& series : figure.series) {

@@ -75,6 +75,10 @@ std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, con
     throw ReportError(fmt::format("these runs' encoder computed in {}; the paper's numbers are fp32 numbers",
                                   ours.precision));
   }
+  if (ours.removal != "none") {
+    throw ReportError(fmt::format("these runs' sessions also removed classes (removal={}); the paper's sessions only "
+                                  "add them", ours.removal));
+  }
   std::vector<PaperComparisonRow> rows;
   for (const auto& row : ours.rows) {
     const auto dataset = std::find_if(std::begin(kDatasets), std::end(kDatasets),

@@ -98,9 +98,10 @@ void add_point(Figure& figure, std::vector<SeriesName>& names, const SeriesName&
 }
 
 // Where each of a sweep key's `values` sits on the x axis of `figure`, which this sets up: at the
-// number itself where every value is one, on a logarithmic axis where they are positive and span
-// more than a factor of 20 (N_ps 5 to 1000); as categories otherwise, or where a linear axis would
-// crowd them (pic_weight 0, 0.0001 ... 1).
+// number itself where every value is one, on a logarithmic axis where they are positive and the
+// largest is more than 20 times the smallest (N_ps 5 to 1000); as categories where a value is not
+// a number, or where such a span includes 0 or a negative value, which have no logarithm
+// (pic_weight 0, 0.0001 ... 1); on a linear axis otherwise (shot 1 to 5).
 std::vector<double> place_values(Figure& figure, const std::vector<std::string>& values) {
   std::vector<double> numbers;
   for (const auto& value : values) {
@@ -109,13 +110,18 @@ std::vector<double> place_values(Figure& figure, const std::vector<std::string>&
     numbers.push_back(*number);
   }
   if (numbers.size() == values.size() && !numbers.empty()) {
-    const auto [low, high] = std::minmax_element(numbers.begin(), numbers.end());
-    const bool wide = *high > 20 * std::abs(*low) || *low == 0;
-    if (*low > 0 && wide) {
+    const double low = *std::min_element(numbers.begin(), numbers.end());
+    const double high = *std::max_element(numbers.begin(), numbers.end());
+    double smallest_positive = HUGE_VAL;
+    for (const double number : numbers) {
+      if (number > 0) smallest_positive = std::min(smallest_positive, number);
+    }
+    const bool wide = high > 20 * smallest_positive;
+    if (!wide) return numbers;
+    if (low > 0) {
       figure.x_log = true;
       return numbers;
     }
-    if (!wide || *low < 0) return numbers;
   }
   figure.x_categories = values;
   std::vector<double> positions;

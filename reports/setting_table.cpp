@@ -102,7 +102,8 @@ SettingTable make_setting_table(const std::string& name, const std::string& capt
                                 bool update_time, std::vector<std::pair<std::string, std::string>> latex_keys) {
   SettingTable result{name, caption, method, dataset, update_time, std::move(latex_keys), {}};
   // The paper's numbers are test-split numbers: none beside runs scored on validation.
-  const std::string paper_dataset = table.evaluated_on == "test" ? paper_dataset_of(dataset) : std::string();
+  const std::string paper_dataset =
+      table.evaluated_on == "test" && table.removal == "none" ? paper_dataset_of(dataset) : std::string();
   for (const auto& row : table.rows) {
     if (row.method != method || row.dataset != dataset) continue;
     SettingTable::Row line;

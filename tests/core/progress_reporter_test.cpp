@@ -43,7 +43,8 @@ TEST(ProgressReporter, APhasesTimeToGoCountsFromTheEndOfThePhaseBefore) {
   progress.epoch("pretrain", 1, 1, 1.5);
   progress.epoch("pseudo-incremental", 1, 40, 0.5);
   const std::string said = out.str();
-  EXPECT_NE(said.find("pretrain epoch 1/1 loss 1.5000 elapsed 2s ETA 0s"), std::string::npos) << said;
+  EXPECT_NE(said.find("pretrain epoch 1/1 loss 1.5000 elapsed "), std::string::npos) << said;
+  EXPECT_EQ(said.find("pretrain epoch 1/1 loss 1.5000 elapsed 0s"), std::string::npos) << said;
   EXPECT_NE(said.find("pseudo-incremental epoch 1/40 loss 0.5000 elapsed 0s ETA 0s"), std::string::npos) << said;
 }
 

@@ -95,6 +95,17 @@ TEST(Cli, ACommandSaysAfterEachRunHowManyAreDoneAndWhyItCannotSayHowLongIsLeftWi
   EXPECT_NE(run.output.find("[fscil-bench]   2 of 2 runs done in 0:00:"), std::string::npos);
 }
 
+// Issue 71: the methods' test-oracle epoch scoring would let removed classes' rows compete.
+TEST(Cli, ClassVariableSessionsRefuseEpochsChosenOnTest) {
+  TemporaryDirectory out;
+  const CommandResult run = run_cli("--methods prototype --seeds 1 --dataset simtex-mini --profile smoke --threads 1 "
+                                    "--no-cache --set removal=fciac --selection test-oracle --out " + out.path().string());
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("--selection test-oracle cannot be combined with removal=fciac"), std::string::npos)
+      << run.output;
+  EXPECT_FALSE(std::filesystem::exists(out.path() / "results")) << "nothing ran";
+}
+
 TEST(Cli, VariantsSharingABaseGiveTheAccuraciesOfTheirOwnRuns) {
   TemporaryDirectory together, alone;
   const std::string common = " --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out ";

@@ -90,6 +90,9 @@ TEST(SessionPlan, TheClassVariableProtocolAddsInOddAndRemovesInEvenSessionsAsFci
   EXPECT_EQ(ls100.removed_by(8), (std::vector<int>{56, 57, 58, 59, 64, 69, 74, 79}));
   EXPECT_EQ(ls100.seen_after(8) - static_cast<int>(ls100.removed_by(8).size()), 72);
   EXPECT_EQ(params.used().at("removal"), "fciac");
+  EXPECT_EQ(describe_removal(ls100), "class-variable sessions (removal=fciac): sessions 1, 3, 5, 7 add 5 classes each; "
+                                     "session 2 removes 59, 64; session 4 removes 58, 69; session 6 removes 57, 74; "
+                                     "session 8 removes 56, 79; 72 of 80 classes remain");
 
   // Without it the plan is the add-only one, and `removal` is not read: a run's identity stays.
   ParameterSet plain;
@@ -97,6 +100,7 @@ TEST(SessionPlan, TheClassVariableProtocolAddsInOddAndRemovesInEvenSessionsAsFci
   EXPECT_EQ(add_only.total_classes(), 100);
   EXPECT_TRUE(add_only.removed_by(8).empty());
   EXPECT_EQ(plain.used().count("removal"), 0u);
+  EXPECT_EQ(describe_removal(add_only), "");
 
   params.set("removed_base", "2");
   params.set("removed_novel", "3");

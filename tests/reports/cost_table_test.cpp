@@ -27,6 +27,15 @@ RunRecord timed_run(const std::string& method, double base, double update, std::
   return record;
 }
 
+// Issue 71: a removing session trains nothing; it is no update to average.
+TEST(CostTable, TheUpdateTimeLeavesOutSessionsThatRemovedClasses) {
+  RunRecord variable = timed_run("prototype", 50, 3, 700, 0);
+  const int seen[] = {10, 15, 13};  // session 2 removed two classes, in no time
+  for (int s = 0; s < 3; ++s) variable.sessions[s].seen_classes = seen[s];
+  variable.sessions[2].train_seconds = 0;
+  EXPECT_DOUBLE_EQ(summarize_costs({variable})[0].update_seconds, 3);
+}
+
 TEST(CostTable, AveragesTimesOverSeedsAndSessionsAndKeepsTheLargestMemory) {
   const std::vector<RunRecord> records = {timed_run("orco", 100, 2, 900, 400), timed_run("prototype", 50, 0, 700, 0),
                                           timed_run("orco", 120, 4, 950, 400)};

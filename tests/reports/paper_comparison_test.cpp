@@ -52,6 +52,19 @@ TEST(PaperComparison, Bf16RunsAreNotComparedWithThePapersFp32Numbers) {
   EXPECT_THROW(compare_with_paper(summarize_runs({bf16}), paper()), ReportError);
 }
 
+// Issue 71: the paper's sessions only add classes.
+TEST(PaperComparison, ClassVariableRunsAreNotComparedWithThePapersAddOnlySessions) {
+  RunRecord variable = run_with_accuracies("cop-fscil", "haptex", 1, {80, 70, 66});
+  variable.protocol_parameters["removal"] = "fciac";
+  try {
+    compare_with_paper(summarize_runs({variable}), paper());
+    ADD_FAILURE() << "compared";
+  } catch (const ReportError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "these runs' sessions also removed classes (removal=fciac); the paper's sessions only add them");
+  }
+}
+
 TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem) {
   std::vector<PaperRow> table = paper();
   table.push_back({"results_haptex", "HapTex", "ADBS", "AAAI25", {92.95, 83.83, 72.58}, 34, 70.38, 4.77});

@@ -120,7 +120,7 @@ SummaryTable lambda_sweep() {
                          run_with_accuracies("prototype", "simtex", 1, {70, 60})});
 }
 
-TEST(RunFigures, GridFigurePutsEachCellAtTheIndexOfItsValueWithALinePerMethod) {
+TEST(RunFigures, GridFigurePutsEachCellAtItsValueWithALinePerMethod) {
   const std::vector<std::string> values = {"0", "0.1", "1"};
   const Figure figure = grid_metric_figure(lambda_sweep(), "simtex", "pic_weight", values, "AA", "lambda_AA",
                                            "AA against lambda");
@@ -128,15 +128,16 @@ TEST(RunFigures, GridFigurePutsEachCellAtTheIndexOfItsValueWithALinePerMethod) {
   EXPECT_EQ(figure.name, "lambda_aa");
   EXPECT_EQ(figure.x_label, "pic_weight");
   EXPECT_EQ(figure.y_label, "AA (%)");
-  EXPECT_EQ(figure.x_categories, values);
+  EXPECT_TRUE(figure.x_categories.empty()) << "0, 0.1 and 1: a linear axis";
+  EXPECT_FALSE(figure.x_log);
   EXPECT_EQ(figure.note, "");
   // pic_weight 5 is not among the values, simtex-lmt not the dataset, prototype not swept.
   ASSERT_EQ(figure.series.size(), 3u);
   EXPECT_EQ(figure.series[0].label, "cop-fscil");
-  expect_values(figure.series[0].x, {0, 2}, "cop-fscil x");  // left to right, though 1 ran first
+  expect_values(figure.series[0].x, {0, 1}, "cop-fscil x");  // left to right, though 1 ran first
   expect_values(figure.series[0].y, {84, 75}, "cop-fscil AA");
   EXPECT_EQ(figure.series[1].label, "orco");
-  expect_values(figure.series[1].x, {1}, "orco x");
+  expect_values(figure.series[1].x, {0.1}, "orco x");
   expect_values(figure.series[1].y, {86}, "orco AA");
   EXPECT_EQ(figure.series[2].label, "cop-fscil [shot=5]");
   expect_values(figure.series[2].x, {0}, "shot 5 x");
@@ -161,7 +162,7 @@ TEST(RunFigures, GridFigureDrawsRowsChosenOnTestAsTheirOwnLineAndSaysSo) {
   EXPECT_EQ(figure.note, "selected on test (inflated)");
   ASSERT_EQ(figure.series.size(), 2u);
   EXPECT_EQ(figure.series[1].label, "orco (selected on test (inflated))");
-  expect_values(figure.series[1].x, {1}, "oracle x");
+  expect_values(figure.series[1].x, {0.1}, "oracle x");
   expect_values(figure.series[1].y, {89}, "oracle AA");
 }
 
@@ -222,6 +223,12 @@ TEST(RunFigures, GridValuesSitAtTheirNumbersOnALogAxisWhereTheySpanDecadesAndAsC
   expect_values(shots.series[0].x, {1, 5}, "shots");
 
   const std::vector<std::string> spaces = {"raw", "standardised"};
+  const std::vector<std::string> weights = {"0", "0.0001", "0.1", "1"};  // lambda: 0 beside four decades
+  const Figure lambda = grid_metric_figure(summarize_runs({in_cell(runs[0], {{"pic_weight", "0.1"}})}), "simtex",
+                                           "pic_weight", weights, "AA", "lambda_aa", "");
+  EXPECT_EQ(lambda.x_categories, weights);
+  expect_values(lambda.series[0].x, {2}, "0.1");
+
   const Figure named = grid_metric_figure(summarize_runs({in_cell(runs[0], {{"cpi_space", "raw"}})}), "simtex",
                                           "cpi_space", spaces, "AA", "space_aa", "");
   EXPECT_EQ(named.x_categories, spaces);

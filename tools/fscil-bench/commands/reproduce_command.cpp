@@ -66,6 +66,8 @@ Rendered beside_paper(const Results& results, const std::string& what) {
   } else if (results.table.precision != "fp32") {
     why_alone = fmt::format("The encoder computed in {}: no comparison with the paper's fp32 numbers.\n",
                             results.table.precision);
+  } else if (results.table.removal != "none") {
+    why_alone = "Sessions also removed classes: no comparison with the paper's add-only sessions.\n";
   } else if (paper_dataset_of(results.dataset).empty()) {
     why_alone = fmt::format("{} is not a dataset of the paper nor a simulation of one: nothing to set beside its "
                             "rows.\n", results.dataset);

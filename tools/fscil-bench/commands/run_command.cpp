@@ -280,6 +280,11 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
                             plan.input.channels, plan.input.mel_bins, plan.input.frames, dataset_clock.seconds()));
 
   plan.schedules = session_schedules(options, plan, split_mode);
+  if (plan.schedules.front().plan.removal != ClassRemoval::none && plan.selection == EpochSelection::test_oracle) {
+    // The methods' epoch scoring does not drop removed classes' rows as the runner's does.
+    throw ProtocolError("--selection test-oracle cannot be combined with removal=fciac");
+  }
+  if (const std::string removal = describe_removal(plan.schedules.front().plan); !removal.empty()) progress.note(removal);
   plan.save_session = sessions_to_save(options.save_embeddings, plan.schedules.front().plan.sessions);
   std::vector<const ParameterSet*> readers = {&plan.protocol_params, &plan.dataset_params};
   for (const auto& method_param : plan.method_params) readers.push_back(&method_param);
