@@ -34,7 +34,7 @@ class KilledRun : public ::testing::Test {
 
   void SetUp() override {
     const std::string pid_file = (out.path() / "pid").string();
-    ASSERT_EQ(std::system((built_program() + kOptions + " --out " + out.path().string() +
+    ASSERT_EQ(std::system((built_program() + options + " --out " + out.path().string() +
                            " > /dev/null 2>&1 & echo $! > " + pid_file).c_str()), 0);
     const auto started = std::chrono::steady_clock::now();
     while (!std::filesystem::exists(checkpoint()) && std::chrono::steady_clock::now() - started < std::chrono::minutes(5)) {
@@ -52,8 +52,34 @@ class KilledRun : public ::testing::Test {
   std::filesystem::path result(const std::string& method) const {
     return out.path() / "results" / (method + "__simtex-mini__seed1.json");
   }
+  std::string options = kOptions;
   TemporaryDirectory out;
 };
+
+// Issue 71: the same under class-variable sessions (simtex-mini: session 1 adds, 2 removes, 3
+// adds), killed during cop-fscil's sessions: the resumed run goes through a removing session and
+// an adding one after it.
+class KilledClassVariableRun : public KilledRun {
+ protected:
+  KilledClassVariableRun() { options += " --set removal=fciac --set sessions=4"; }
+};
+
+TEST_F(KilledClassVariableRun, ResumeEndsWithExactlyTheResultsOfAnUninterruptedRun) {
+  ASSERT_TRUE(std::filesystem::exists(checkpoint()));
+  ASSERT_FALSE(std::filesystem::exists(result("cop-fscil"))) << "the run finished before it was killed";
+  const CommandResult resumed = run_cli(options + " --resume " + out.path().string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  TemporaryDirectory uninterrupted;
+  ASSERT_EQ(run_cli(options + " --out " + uninterrupted.path().string()).exit_code, 0);
+  for (const std::string method : {"prototype", "cop-fscil"}) {
+    const std::string expected = accuracies_in(uninterrupted.path() / "results" / (method + "__simtex-mini__seed1.json"));
+    EXPECT_EQ(std::count(expected.begin(), expected.end(), ':'), 4);
+    EXPECT_EQ(accuracies_in(result(method)), expected) << method;
+  }
+  const std::string sessions = read_text(result("cop-fscil"));
+  EXPECT_NE(sessions.find("\"seen_classes\": 13"), std::string::npos) << "session 2 scored 13 classes";
+  EXPECT_NE(sessions.find("\"seen_classes\": 18"), std::string::npos) << "session 3 scored 18";
+}
 
 TEST_F(KilledRun, ResumeEndsWithExactlyTheResultsOfAnUninterruptedRun) {
   ASSERT_TRUE(std::filesystem::exists(checkpoint()));
