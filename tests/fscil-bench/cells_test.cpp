@@ -44,6 +44,16 @@ TEST(Cli, PlanListsOneCellPerBaseSessionSeedAndGridCell) {
                         "--cell 2: this command has 2 cells, 0 to 1 (see: fscil-bench plan)");
   expect_one_error_line(run_cli("plan --dataset simtex-mini"), "--methods and --dataset are required");
   EXPECT_EQ(sweep.output.find("estimate"), std::string::npos) << sweep.output;
+  EXPECT_EQ(sweep.output.find("class-variable"), std::string::npos) << "its sessions only add";
+
+  // Issue 71: the class-variable protocol's sessions in the plan.
+  const CommandResult variable = run_cli("plan --methods prototype --dataset simtex-mini --profile smoke --seeds 1 "
+                                         "--set removal=fciac --set sessions=4 --no-estimate");
+  ASSERT_EQ(variable.exit_code, 0) << variable.output;
+  EXPECT_NE(variable.output.find("class-variable sessions (removal=fciac): sessions 1, 3 add 5 classes each; session 2 "
+                                 "removes 9, 14; 18 of 20 classes remain\n"),
+            std::string::npos)
+      << variable.output;
 }
 
 // The seconds plan estimates for each line's cell (its last column, H:MM:SS).

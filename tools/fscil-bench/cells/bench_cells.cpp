@@ -201,6 +201,14 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
   return records;
 }
 
+std::string removal_of_command(const RunOptions& options, const std::vector<std::string>& grid) {
+  try {
+    return command_sizes(grid.empty() ? options : sweep_cell_options(options, grid_cells(parse_grid(grid)).front())).removal;
+  } catch (const DataNotHere&) {
+    return "";
+  }
+}
+
 void check_every_cell(const RunOptions& options, const std::vector<std::string>& grid) {
   std::vector<GridCell> cells = {{}};
   if (!grid.empty()) cells = grid_cells(parse_grid(grid));

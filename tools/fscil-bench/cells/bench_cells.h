@@ -69,6 +69,10 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
 // machine cannot be checked here, and is not.
 void check_every_cell(const RunOptions& options, const std::vector<std::string>& grid);
 
+// Which classes the command's sessions remove (describe_removal, for its first cell and seed); ""
+// when they only add classes, or where the dataset's files are not on this machine.
+std::string removal_of_command(const RunOptions& options, const std::vector<std::string>& grid);
+
 // CliError when `records` (of `results`) are not those of the command `methods` and `grid` name:
 // a named method or grid cell without a result file, or a result file of a cell the grid does not
 // name (report --methods/--grid on the wrong folder said nothing).

@@ -148,6 +148,9 @@ class PlanCommand : public CellsCommand {
       status = cells.empty() ? exit_status::success : exit_status::bad_input;
     }
     fmt::print("{}", render_plan(cells));
+    if (const std::string removal = removal_of_command(invocation.run, grid_); !removal.empty()) {
+      fmt::print("{}\n", removal);
+    }
     for (const std::string& note : notes) fmt::print("{}\n", note);
     return status;
   }

@@ -704,7 +704,8 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
   const ParameterSet params = plan.params;
   CommandSizes sizes{plan.input.channels, plan.input.mel_bins, plan.input.frames, plan.threads, plan.precision,
                      SupervisedSchedule::from(params).batch_size, {},
-                     options.no_cache ? std::string() : cache_folder(options).string(), {}};
+                     options.no_cache ? std::string() : cache_folder(options).string(), {},
+                     describe_removal(plan.schedules.front().plan)};
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
     const SessionSchedule& schedule = plan.schedules[i];
     RunSizes run;
@@ -718,8 +719,10 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
     for (int session = 0; session < run.sessions; ++session) {
       const int seen = schedule.plan.seen_after(session);
+      const std::vector<int> removed = schedule.plan.removed_by(session);
       run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
-        return schedule.label[static_cast<std::size_t>(segment)] < seen;
+        const int label = schedule.label[static_cast<std::size_t>(segment)];
+        return label < seen && !std::binary_search(removed.begin(), removed.end(), label);
       }));
     }
     sizes.runs[plan.seeds[i]] = run;

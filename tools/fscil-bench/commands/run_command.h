@@ -66,6 +66,7 @@ struct CommandSizes {
   std::map<std::uint64_t, RunSizes> runs;  // by seed
   std::string cache_dir;                   // where this command caches (empty: --no-cache)
   std::map<std::string, ParameterSet> method_parameters;  // by method, as its run reads them
+  std::string removal;  // describe_removal of the first seed's sessions ("" when they only add classes)
 };
 CommandSizes command_sizes(const RunOptions& options);
 
