@@ -158,13 +158,12 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   const SessionData validation = gather_session(dataset, schedule, schedule.validation, 0);
   const std::vector<std::int64_t>& scored_segments = schedule.scored_segments(scored);
   const std::vector<std::int64_t> scored_labels = schedule.labels_of(scored_segments);
-  const torch::Tensor test_labels = torch::tensor(scored_labels, torch::kLong);
   context.validation = &validation;
   describe_protocol(context, dataset, schedule);
 
   const std::vector<int> segment_contexts = context_ids(dataset.segments);
   std::vector<int> first_session;
-  for (std::int64_t label : schedule.labels_of(scored_segments)) first_session.push_back(plan.session_of_class(label));
+  for (std::int64_t label : scored_labels) first_session.push_back(plan.session_of_class(label));
   ScoredEmbeddings scored_embeddings(feature_rows(dataset, scored_segments), std::move(first_session), reuse);
   std::vector<SessionOutcome> outcomes = checkpoints.finished;
   if (!outcomes.empty()) scored_embeddings.keep_up_to(method, static_cast<int>(outcomes.size()) - 1);
@@ -243,7 +242,8 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
         embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
       }
     }
-    const auto labels = to_vector<std::int64_t>(test_labels.index_select(0, torch::tensor(seen, torch::kLong)));
+    std::vector<std::int64_t> labels;
+    for (std::int64_t position : seen) labels.push_back(scored_labels[static_cast<std::size_t>(position)]);
     if (keep_embeddings) keep_embeddings(session, seen_embeddings, labels);
     const auto predicted = to_vector<std::int64_t>(torch::cat(predictions));
     outcome.accuracy = score_session(labels, predicted, plan.base_classes, plan.first_class_of(session), plan.seen_after(session));

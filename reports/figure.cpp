@@ -46,6 +46,16 @@ std::pair<double, double> whisker_ends(const Figure& figure, const FigureSeries&
   return {std::max(y - spread, std::min(y, figure.y_floor)), std::min(y + spread, std::max(y, figure.y_ceiling))};
 }
 
+std::pair<double, double> x_range(const Figure& figure) {
+  double low = HUGE_VAL, high = -HUGE_VAL;
+  for (const auto& series : figure.series) {
+    for (const double x : series.x) {
+      if (std::isfinite(x)) low = std::min(low, x), high = std::max(high, x);
+    }
+  }
+  return {low, high};
+}
+
 std::pair<double, double> value_range(const Figure& figure) {
   double low = HUGE_VAL, high = -HUGE_VAL;
   for (const auto& series : figure.series) {

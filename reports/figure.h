@@ -52,6 +52,8 @@ bool has_spread(const Figure& figure);
 // The ends of point i's whisker, y -/+ its spread cut at the quantity's natural bounds (an
 // accuracy's whisker stops at 100); NaN for both where the point has no spread.
 std::pair<double, double> whisker_ends(const Figure& figure, const FigureSeries& series, std::size_t i);
+// The lowest and highest finite x over every series. Infinite (low > high) when there is none.
+std::pair<double, double> x_range(const Figure& figure);
 // The lowest and highest finite y - spread and y + spread over every series (y alone where there
 // is no spread): what the value axis must cover. Infinite (low > high) when there is no point.
 std::pair<double, double> value_range(const Figure& figure);

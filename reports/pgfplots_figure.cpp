@@ -127,12 +127,7 @@ std::string axis_options(const Figure& figure) {
     }
   }
   if (figure.x_log) {
-    double low = HUGE_VAL, high = -HUGE_VAL;
-    for (const auto& series : figure.series) {
-      for (const double x : series.x) {
-        if (std::isfinite(x)) low = std::min(low, x), high = std::max(high, x);
-      }
-    }
+    const auto [low, high] = x_range(figure);
     const AxisTicks x = padded_log_axis(low, high);
     std::vector<std::string> ticks;
     for (const double value : x.values) ticks.push_back(pgf_number(value));
@@ -175,12 +170,13 @@ std::string plot_options(const Figure& figure, std::size_t index) {
 // left out.
 std::string coordinates(const Figure& figure, const FigureSeries& series) {
   std::vector<std::string> points;
+  const bool spread = has_spread(series);
   for (std::size_t i = 0; i < series.x.size(); ++i) {
     const bool finite = std::isfinite(series.x[i]) && std::isfinite(series.y[i]);
     if (finite) {
       std::string point = fmt::format("({},{})", pgf_number(series.x[i]), pgf_number(series.y[i]));
       // A plot with error bars needs a spread at every point: 0 where it has none.
-      if (has_spread(series)) {
+      if (spread) {
         const auto [bottom, top] = whisker_ends(figure, series, i);
         const bool drawn = std::isfinite(bottom) && std::isfinite(top);
         point += fmt::format(" += (0,{}) -= (0,{})", pgf_number(drawn ? top - series.y[i] : 0),

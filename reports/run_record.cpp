@@ -45,6 +45,11 @@ std::string precision_of(const RunRecord& record) {
   return found == record.protocol_parameters.end() ? "fp32" : found->second;
 }
 
+std::string removal_of(const RunRecord& record) {
+  const auto found = record.protocol_parameters.find("removal");
+  return found == record.protocol_parameters.end() ? "none" : found->second;
+}
+
 std::string run_record_file_name(const RunRecord& record) {
   return fmt::format("{}__{}__seed{}.json", safe_name(record.method), safe_name(record.dataset), record.seed);
 }
@@ -180,8 +185,7 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
     throw ReportError(fmt::format("{}: {} sessions recorded, expected at most the protocol's {}", origin,
                                   record.sessions.size(), *sessions));
   }
-  const auto removal = record.protocol_parameters.find("removal");
-  const bool removes_classes = removal != record.protocol_parameters.end() && removal->second != "none";
+  const bool removes_classes = removal_of(record) != "none";
   for (std::size_t i = 0; i < record.sessions.size(); ++i) {
     const SessionOutcome& session = record.sessions[i];
     if (session.session != static_cast<int>(i)) {

@@ -89,6 +89,8 @@ std::int64_t run_peak_bytes(const RunRecord& record);
 // What the run's encoder computed in (--precision): "bf16" where its protocol parameters say so,
 // "fp32" otherwise (files written before the option existed are fp32).
 std::string precision_of(const RunRecord& record);
+// Its protocol_parameters' removal (session_plan.h): "none" for add-only runs and files from before it.
+std::string removal_of(const RunRecord& record);
 // The selections a result file may name, and whether one was chosen on the test split.
 bool is_selection_name(const std::string& name);
 bool selected_on_test(const RunRecord& record);

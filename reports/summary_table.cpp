@@ -24,16 +24,6 @@ std::vector<StageConvergence> base_stages(const RunRecord& record) {
 
 }  // namespace
 
-namespace {
-
-// "none" for files written before the class-variable protocol existed.
-std::string removal_of(const RunRecord& record) {
-  const auto found = record.protocol_parameters.find("removal");
-  return found == record.protocol_parameters.end() ? "none" : found->second;
-}
-
-}  // namespace
-
 std::string SummaryTable::title_note() const {
   std::string note = precision == "fp32" ? std::string() : ", encoder in " + precision;
   if (removal != "none") note += ", class-variable sessions (removal=" + removal + ")";

@@ -151,9 +151,9 @@ class SvgFigure {
 
   void lay_out() {
     Range x, y;
-    for (const auto& series : figure_.series) {
-      for (const double value : series.x) x.add(value);
-    }
+    const auto [x_low, x_high] = x_range(figure_);
+    x.add(x_low);
+    x.add(x_high);
     const auto [low, high] = value_range(figure_);
     y.add(low);
     y.add(high);
