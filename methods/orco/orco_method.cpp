@@ -13,6 +13,7 @@
 #include "methods/common/shuffled_batches.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
+#include "metrics/convergence.h"
 #include "core/random_draws.h"
 #include "core/stop_request.h"
 
@@ -209,6 +210,11 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
     context.log_epoch(phase, epoch + 1, schedule.epochs, {{"loss", loss_sum / batches}, {"lr", rate}});
     if (after_epoch) after_epoch();
     epochs_trained = epoch + 1;
+    if (schedule.levelled_off_stop_from > 0 && epochs_trained >= schedule.levelled_off_stop_from &&
+        stage_has_levelled_off(context.training_log, phase)) {
+      context.diagnostics[phase + "_converged_epoch"] = epochs_trained;
+      break;
+    }
     const bool check = (epochs_trained - stop.first_check) % stop.check_every == 0 ||
                        (stop.check_last && epochs_trained == schedule.epochs);
     if (!score || !check) continue;
@@ -364,8 +370,10 @@ MethodEntry orco_entry() {
     // costs about 7 calibrated head steps: fitted on simtex, fast, seed 1 (docs/profiling.md).
     constexpr double kProjectorStep = 7;
     // Assignment, the cached views and validation; then the projector alone on the cached views.
+    // Under base_stop=converged the phase has stopped at or soon after its least epochs: count those.
+    const int projector_epochs = orco.base.levelled_off_stop_from > 0 ? orco.base.levelled_off_stop_from : orco.base.epochs;
     StageWork projector{"projector", 0, n + orco.views * n + static_cast<double>(sizes.base_validation),
-                        kProjectorStep * orco.base.epochs * std::ceil(n / orco.base.batch_size)};
+                        kProjectorStep * projector_epochs * std::ceil(n / orco.base.batch_size)};
     StageWork sessions{"sessions", 0, 0, 0, false};
     for (int session = 1; session < sizes.sessions; ++session) {
       const double memory = orco.exemplars_per_base_class * sizes.base_classes + session * shots;
@@ -375,8 +383,9 @@ MethodEntry orco_entry() {
     return std::vector<StageWork>{pretraining, projector, sessions};
   };
   // In smoke, the projector stage shortened as PITS-SC's second stage is (10 epochs: 1) and its
-  // sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up). Fast keeps the projector's 10
-  // epochs: they are the only ones that map it onto the targets (cut to 2, AA fell 78.62 -> 63.67).
+  // sessions as PITS-SC's are (a tenth: 10 epochs, 1 of warm-up). Fast keeps at least the
+  // projector's 10 epochs: they are the only ones that map it onto the targets (cut to 2, AA fell
+  // 78.62 -> 63.67); its base_stop=converged runs the phase on until it levels off.
   entry.profile_defaults = pretraining_profiles(
       {{"smoke", {{"orco_base_epochs", "1"}, {"orco_session_epochs", "10"}, {"orco_session_warmup", "1"}}}});
   entry.session_only_parameters = {"orco_session_epochs", "orco_session_lr",       "orco_session_batch",

@@ -34,6 +34,14 @@ OrcoSettings OrcoSettings::from(const ParameterSet& params) {
       static_cast<int>(params.integer("orco_base_batch", s.pretrain.batch_size, ValidRange::at_least(2)));
   s.base.decay = named_choice(params, "orco_base_schedule", s.base.decay,
                               {{"milestone", ProjectorDecay::milestone}, {"cosine", ProjectorDecay::cosine}});
+  if (s.pretrain.stop_when_converged) {
+    // Read only here, so that a schedule-length run's identity stays what it was.
+    s.base_epochs_cap = static_cast<int>(params.integer("orco_base_epochs_cap", s.base_epochs_cap, ValidRange::at_least(1)));
+    if (s.base.epochs > 0) {
+      s.base.levelled_off_stop_from = s.base.epochs;
+      s.base.epochs = std::max(s.base.epochs, s.base_epochs_cap);
+    }
+  }
   s.session.epochs = static_cast<int>(params.integer("orco_session_epochs", s.session.epochs, ValidRange::at_least(0)));
   s.session.learning_rate = params.real("orco_session_lr", s.session.learning_rate, ValidRange::above(0));
   s.session.batch_size =

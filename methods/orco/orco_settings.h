@@ -26,6 +26,9 @@ struct ProjectorSchedule {
   int warmup_epochs = 0;
   double warmup_start = 3e-5;
   ProjectorDecay decay = ProjectorDecay::cosine;
+  // 0: all `epochs` run. Otherwise the stage ends once its base validation has levelled off
+  // (metrics/convergence.h), not before this epoch, `epochs` its cap (base_stop=converged).
+  int levelled_off_stop_from = 0;
 
   // The learning rate of epoch `epoch` (0-based).
   double rate_at(int epoch) const;
@@ -63,7 +66,10 @@ struct OrcoSettings {
   double perturb_offset = 0.5;
 
   // phase 2: 10 epochs at a constant lr 0.25, wd 5e-4 (run_cifar.sh L9, L13, L16; Milestone).
+  // Under base_stop=converged the released 10 are the least, and the phase runs on until base
+  // validation levels off, at most orco_base_epochs_cap (ours; docs/methods.md, "The fast profile").
   ProjectorSchedule base{10, 0.25, 1e-5, 5e-4, 0.9, 0.9, 128, 0, 3e-5, ProjectorDecay::milestone};
+  int base_epochs_cap = 30;
   ProjectorSchedule session{100, 0.1, 0.0, 1e-4, 0.9, 0.9, 64, 10};  // sessions: 100 epochs, lr 0.1, wd 1e-4
   SessionStop session_stop;
   double novel_ce_weight = 0.5;  // the reference's cos_n_lam

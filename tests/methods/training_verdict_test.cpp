@@ -10,6 +10,7 @@
 
 #include "methods/common/supervised_training.h"
 #include "methods/method_registry.h"
+#include "methods/orco/orco_settings.h"
 #include "methods/pits_sc/pits_sc_settings.h"
 #include "metrics/convergence.h"
 #include "core/parameter_set.h"
@@ -105,44 +106,50 @@ StageRun stage_run(const std::string& method, ParameterSet params, const std::st
   return run;
 }
 
-// The first epoch after which `stage` has levelled off in `epochs`; 0 for none.
-std::size_t first_level_epoch(const std::vector<EpochLog>& epochs, const std::string& stage) {
-  for (std::size_t e = 1; e <= epochs.size(); ++e) {
+// The first epoch, from epoch `least` on, after which `stage` has levelled off in `epochs`; 0 for none.
+std::size_t first_level_epoch(const std::vector<EpochLog>& epochs, const std::string& stage, std::size_t least) {
+  for (std::size_t e = std::max<std::size_t>(least, 1); e <= epochs.size(); ++e) {
     if (stage_has_levelled_off(std::vector<EpochLog>(epochs.begin(), epochs.begin() + e), stage)) return e;
   }
   return 0;
 }
 
-// base_stop=converged ends `stage` at the first epoch at which it has levelled off (converged over
-// a full window, on a plateau), and until then trains exactly as the whole schedule of `cap`
-// epochs does. Whether the tiny stage levels off before its cap depends on the kernels' rounding
+// base_stop=converged ends `stage` at the first epoch, from its least (`least`) on, at which it has
+// levelled off (converged over a full window, on a plateau), and until then trains exactly as the
+// whole schedule of `cap` epochs does; `when_converged` are the stopped run's settings besides
+// base_stop. Whether the tiny stage levels off before its cap depends on the kernels' rounding
 // (OpenBLAS's Haswell and Cooperlake kernels differ): the first of `seeds` whose whole schedule
-// levels off is the one checked.
+// levels off (before `least`, with one) is the one checked.
 void expect_stop_at_first_level_epoch(const std::string& method, const ParameterSet& params,
-                                      const std::string& stage, std::size_t cap, const std::vector<std::uint64_t>& seeds) {
+                                      const std::string& stage, std::size_t cap, const std::vector<std::uint64_t>& seeds,
+                                      std::size_t least = 0,
+                                      const std::map<std::string, std::string>& when_converged = {}) {
   std::optional<StageRun> whole;
   std::uint64_t seed = 0;
+  std::size_t expected = 0;
   for (const std::uint64_t candidate : seeds) {
     StageRun run = stage_run(method, params, stage, false, candidate);
     ASSERT_EQ(run.epochs.size(), cap);
-    const std::size_t level = first_level_epoch(run.epochs, stage);
-    if (level > 0 && level < cap) {
+    expected = first_level_epoch(run.epochs, stage, least);
+    // With a least, only a stage that levels off before it shows that the stop waits.
+    const bool waits = least == 0 || first_level_epoch(run.epochs, stage, 0) < least;
+    if (expected > 0 && expected < cap && waits) {
       whole = std::move(run);
       seed = candidate;
       break;
     }
   }
   ASSERT_TRUE(whole.has_value()) << "the tiny " << stage << " stage levelled off from none of the seeds";
-  const StageRun stopped = stage_run(method, params, stage, true, seed);
+  ParameterSet stopping = params;
+  for (const auto& [key, value] : when_converged) stopping.set(key, value);
+  const StageRun stopped = stage_run(method, stopping, stage, true, seed);
   const std::size_t epochs = stopped.epochs.size();
-  ASSERT_LT(epochs, cap) << "the tiny " << stage << " stage never levelled off";
+  ASSERT_EQ(epochs, expected) << "the stop came after another epoch than the first level one from " << least;
   ASSERT_GE(epochs, 2u * kConvergenceWindow);
   EXPECT_EQ(stopped.diagnostics.at(stage + "_converged_epoch"), static_cast<double>(epochs));
   for (std::size_t e = 0; e < epochs; ++e) {
     EXPECT_EQ(stopped.epochs[e].values.at("loss"), whole->epochs[e].values.at("loss")) << e;
     EXPECT_EQ(stopped.epochs[e].values.at(kBaseValidationKey), whole->epochs[e].values.at(kBaseValidationKey)) << e;
-    const std::vector<EpochLog> so_far(whole->epochs.begin(), whole->epochs.begin() + e + 1);
-    EXPECT_EQ(stage_has_levelled_off(so_far, stage), e + 1 == epochs) << "epoch " << e + 1;
   }
   EXPECT_EQ(run_verdict(judge_stages(stopped.epochs)), TrainingVerdict::converged);
 }
@@ -159,6 +166,16 @@ TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLe
   ParameterSet params = verdict_training();  // its 2-epoch pretraining is too short to stop
   params.set("pit_epochs", "8");
   expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, {12, 13, 14, 15});
+}
+
+// OrCo's projector phase stops the same way, but never before its released length (orco_base_epochs,
+// here 8 of a cap of 14): the first level epoch from the eighth on. Its constant rate makes the
+// first 8 epochs those of the released schedule.
+TEST(TrainingVerdict, BaseStopConvergedEndsOrcosProjectorAtItsFirstLevelEpochFromItsReleasedLength) {
+  ParameterSet params = verdict_training();  // its 2-epoch pretraining is too short to stop
+  params.set("orco_base_epochs", "14");
+  expect_stop_at_first_level_epoch("orco", params, "projector", 14, {12, 13, 14, 15, 16, 17}, 8,
+                                   {{"orco_base_epochs", "8"}, {"orco_base_epochs_cap", "14"}});
 }
 
 // The fast profile trains every base stage until it has converged, at most 40 epochs, and plan counts
@@ -187,6 +204,15 @@ TEST(TrainingVerdict, TheFastProfileStopsBaseStagesOnceConvergedAndPlanCountsThe
   EXPECT_TRUE(pits.pit.stop_when_converged);
   EXPECT_EQ(pits.pit.epochs, 10);
   EXPECT_EQ(pits.pit.expected_epochs(), 10);
+  // OrCo's projector runs at least its released 10 epochs, at most 30; plan counts the 10. The
+  // paper profile runs exactly the 10 and never reads the cap.
+  const OrcoSettings fast_orco = OrcoSettings::from(fast_pits);
+  EXPECT_EQ(fast_orco.base.levelled_off_stop_from, 10);
+  EXPECT_EQ(fast_orco.base.epochs, 30);
+  const OrcoSettings paper_orco = OrcoSettings::from(paper);
+  EXPECT_EQ(paper_orco.base.levelled_off_stop_from, 0);
+  EXPECT_EQ(paper_orco.base.epochs, 10);
+  EXPECT_EQ(paper.used().count("orco_base_epochs_cap"), 0u);
 }
 
 }  // namespace
