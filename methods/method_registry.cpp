@@ -13,6 +13,7 @@
 #include "methods/dsn/dsn_method.h"
 #include "methods/method.h"
 #include "methods/orco/orco_method.h"
+#include "methods/pa_pct/pa_pct_method.h"
 #include "methods/pan/pan_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "methods/prototype/prototype_method.h"
@@ -29,6 +30,7 @@ std::vector<MethodEntry>& registry() {
     entries.push_back(orco_entry());
     entries.push_back(adbs_entry());
     entries.push_back(pan_entry());
+    entries.push_back(pa_pct_entry());
     entries.push_back(dsn_entry());
     entries.push_back(comp_fscil_entry());
     entries.push_back(arp_entry());

@@ -30,6 +30,7 @@ std::pair<std::string, std::string> paper_row_of(const std::string& method, cons
   if (method == "orco") return {"results_" + suffix, "OrCo"};
   if (method == "adbs") return {"results_" + suffix, "ADBS"};
   if (method == "pan") return {"results_" + suffix, "PAN"};
+  if (method == "pa-pct") return {"results_" + suffix, "PA-PCT"};
   if (method == "dsn") return {"results_" + suffix, "DSN"};
   if (method == "comp-fscil") return {"results_" + suffix, "Comp-FSCIL"};
   if (method == "arp") return {"results_" + suffix, "ARP"};

@@ -4,7 +4,7 @@
 
 namespace fscil {
 
-PanAttentionImpl::PanAttentionImpl(std::int64_t dim) : dim_(dim) {
+PanAttentionImpl::PanAttentionImpl(std::int64_t dim, AttentionDropouts dropouts) : dim_(dim), dropouts_(dropouts) {
   const auto projection = [dim] { return torch::nn::Linear(torch::nn::LinearOptions(dim, dim).bias(false)); };
   query = register_module("query", projection());
   key = register_module("key", projection());
@@ -22,8 +22,12 @@ PanAttentionImpl::PanAttentionImpl(std::int64_t dim) : dim_(dim) {
 AttentionOutput PanAttentionImpl::forward(const torch::Tensor& tokens) {
   const torch::Tensor q = query->forward(tokens), k = key->forward(tokens), v = value->forward(tokens);
   const torch::Tensor raw_scores = torch::bmm(q, k.transpose(1, 2));
-  const torch::Tensor weights = torch::softmax(raw_scores / std::sqrt(static_cast<double>(dim_)), -1);
-  return {norm->forward(out->forward(torch::bmm(weights, v)) + tokens), raw_scores};
+  const auto dropped = [this](const torch::Tensor& x, double p) {
+    return p > 0 && is_training() ? torch::dropout(x, p, true) : x;
+  };
+  const torch::Tensor weights =
+      dropped(torch::softmax(raw_scores / std::sqrt(static_cast<double>(dim_)), -1), dropouts_.weights);
+  return {norm->forward(dropped(out->forward(torch::bmm(weights, v)), dropouts_.output) + tokens), raw_scores};
 }
 
 }  // namespace fscil

@@ -183,28 +183,37 @@ torch::Tensor PanMethod::classify(const torch::Tensor& embeddings) {
   return pqa_logits(attention_, classifier_->weight().slice(0, 0, seen), embeddings, settings_.temperature);
 }
 
-ModelCost PanMethod::inference_cost(const InputShape& input) const {
-  ModelCost cost;
-  encoder_->count_cost(cost, "encoder", input.feature_map());
-  const std::int64_t seen = seen_classes_->value(), dim = encoder_->embedding_size(), tokens = seen + 1;
-  // PQA on the seen rows and the sample: four D x D projections of every token, the scores and
-  // their weighted sum, a LayerNorm of every token, then the cosine logits.
-  for (const auto& [name, linear] : {std::pair{"query", attention_->query}, {"key", attention_->key},
-                                     {"value", attention_->value}, {"out", attention_->out}}) {
-    LayerCost layer = layer_with_parameters(std::string("attention.") + name, "linear", linear->parameters());
+void count_pqa_cost(ModelCost& cost, const std::string& name, const PanAttention& attention, std::int64_t tokens) {
+  const std::int64_t dim = attention->dim();
+  // Four D x D projections of every token, the scores and their weighted sum, a LayerNorm of every token.
+  for (const auto& [part, linear] : {std::pair{"query", attention->query}, {"key", attention->key},
+                                     {"value", attention->value}, {"out", attention->out}}) {
+    LayerCost layer = layer_with_parameters(name + "." + part, "linear", linear->parameters());
     layer.macs = tokens * linear_macs(dim, dim);
     cost.add(std::move(layer));
   }
-  LayerCost scores{"attention.scores", "attention"};
+  LayerCost scores{name + ".scores", "attention"};
   scores.macs = 2 * tokens * tokens * dim;
   cost.add(std::move(scores));
-  LayerCost norm = layer_with_parameters("attention.norm", "layer_norm", attention_->norm->parameters());
+  LayerCost norm = layer_with_parameters(name + ".norm", "layer_norm", attention->norm->parameters());
   norm.macs = tokens * dim;
   cost.add(std::move(norm));
+}
+
+void PanMethod::count_rows_cost(ModelCost& cost) const {
+  const std::int64_t seen = seen_classes_->value(), dim = encoder_->embedding_size();
   count_cosine_classifier(cost, "classifier", dim, seen, classifier_->parameters());
   LayerCost row_norms{"classifier.row_norms", "cosine"};  // the rows leave PQA changed by each sample
   row_norms.macs = seen * dim;
   cost.add(std::move(row_norms));
+}
+
+ModelCost PanMethod::inference_cost(const InputShape& input) const {
+  ModelCost cost;
+  encoder_->count_cost(cost, "encoder", input.feature_map());
+  // PQA on the seen rows and the sample, then the cosine logits.
+  count_pqa_cost(cost, "attention", attention_, seen_classes_->value() + 1);
+  count_rows_cost(cost);
   cost.freeze("encoder");
   cost.freeze("attention");  // sessions fine-tune the new rows only
   return cost;

@@ -33,12 +33,16 @@ class PanMethod : public ModuleMethod {
 
  protected:
   NamedModules build(const RunContext& context) override;
+  // PA-PCT grows from PAN (methods/pa_pct): its stages, modules and rows are PAN's.
+  std::vector<torch::Tensor> encoder_parameters() const;
+  // The seen rows' cosine logits in an inference cost.
+  void count_rows_cost(ModelCost& cost) const;
 
  private:
   void train_standard(const SessionData& base, std::int64_t classes, const std::string& stage, RunContext& context);
   void train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context);
-  std::vector<torch::Tensor> encoder_parameters() const;
 
+ protected:
   PanSettings settings_;
   ResNet18Encoder encoder_{nullptr};
   CosineClassifier classifier_{nullptr};  // the rows: class means, then the sessions' rows
@@ -48,6 +52,9 @@ class PanMethod : public ModuleMethod {
   PanAttention prototype_attention_{nullptr};
   ClassCount seen_classes_{nullptr};
 };
+
+// One pass of `attention` over `tokens` tokens in an inference cost, its layers named `name`.*.
+void count_pqa_cost(ModelCost& cost, const std::string& name, const PanAttention& attention, std::int64_t tokens);
 
 MethodEntry pan_entry();
 

@@ -2,6 +2,7 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <functional>
 
 #include "methods/pan/pan_attention.h"
 
@@ -14,5 +15,11 @@ namespace fscil {
 // `queries` N x D. Queries go through `chunk` at a time, so memory stays at chunk x (C + 1) x D.
 torch::Tensor pqa_logits(PanAttention& attention, const torch::Tensor& prototypes, const torch::Tensor& queries,
                          double temperature, std::int64_t chunk = 256);
+// The same through any attention over tokens B x L x D (PA-PCT's gated two-branch one); with
+// `adapted_rows`, also the prototypes' outputs averaged over the queries (C x D, shared prototypes
+// only: the release's `avg_by_class`).
+torch::Tensor pqa_logits(const std::function<torch::Tensor(const torch::Tensor&)>& attend, const torch::Tensor& prototypes,
+                         const torch::Tensor& queries, double temperature, std::int64_t chunk = 256,
+                         torch::Tensor* adapted_rows = nullptr);
 
 }  // namespace fscil

@@ -76,6 +76,8 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
     first_index.insert(first_index.end(), first.begin(), first.end());
     second_index.insert(second_index.end(), second.begin(), second.end());
   }
+  episode.first_samples = first_index;
+  episode.second_samples = second_index;
   episode.mixed_signals = episode.lambda * base_.signals.gather(torch::tensor(first_index)) +
                           (1 - episode.lambda) * base_.signals.gather(torch::tensor(second_index));
   episode.mixed_features = front_end(episode.mixed_signals);

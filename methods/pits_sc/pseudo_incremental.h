@@ -30,6 +30,9 @@ struct PitEpisode {
   torch::Tensor kept_features, kept_labels;
   torch::Tensor mixed_signals, mixed_features;
   std::vector<std::int64_t> first_class, second_class;
+  // The samples (indices into the base session) each pair mixed, pair-major like mixed_signals:
+  // what a method that mixes the episode's classes again draws from (PA-PCT's second half-step).
+  std::vector<std::int64_t> first_samples, second_samples;
   double lambda = 0;
   std::vector<std::int64_t> novel_rows;  // per pair: the classifier row its prototype goes to
   torch::Tensor query_labels;            // pair j's queries carry novel_rows[j]

@@ -41,7 +41,7 @@ TEST(SessionsKeepEmbedding, HoldsForEveryMethodThatDeclaresItAndOnlyForThose) {
     if (method_entry(name).sessions_keep_embedding) keeping.insert(name);
   }
   EXPECT_EQ(keeping, (std::set<std::string>{"prototype", "pits-sc", "cop-fscil", "cop-fscil/cpi", "cop-fscil/cpi+pspc",
-                                             "cop-fscil/cpi+pcqa", "adbs", "pan", "dsn", "comp-fscil", "arp", "amfo"}));
+                                             "cop-fscil/cpi+pcqa", "adbs", "pan", "pa-pct", "dsn", "comp-fscil", "arp", "amfo"}));
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ ParameterSet verdict_training() {
            {"pretrain_epochs", "2"}, {"pit_episodes", "2"}, {"pit_epochs", "2"}, {"batch_size", "32"},
            {"orco_base_epochs", "2"}, {"orco_views", "2"}, {"orco_target_steps", "50"},
            {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}, {"pan_pit_episodes", "2"},
-           {"pan_pit_epochs", "1"}}) {
+           {"pan_pit_epochs", "1"}, {"pa_pct_epochs", "2"}, {"pa_pct_episodes", "2"}}) {
     params.set(key, value);
   }
   return params;
@@ -66,6 +66,7 @@ TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWha
   EXPECT_EQ(scored_stages.at("pits-sc"), (std::set<std::string>{"pretrain", "pseudo-incremental"}));
   EXPECT_EQ(scored_stages.at("orco"), (std::set<std::string>{"pretrain", "projector"}));
   EXPECT_EQ(scored_stages.at("pan"), (std::set<std::string>{"temporary_standard", "standard"}));
+  EXPECT_EQ(scored_stages.at("pa-pct"), (std::set<std::string>{"temporary_standard", "standard", "pcts"}));
   for (const std::string name : {"adbs", "dsn", "comp-fscil", "arp", "amfo"}) {
     EXPECT_EQ(scored_stages.at(name), (std::set<std::string>{"base"})) << name;
   }
@@ -166,6 +167,13 @@ TEST(TrainingVerdict, BaseStopConvergedEndsThePseudoIncrementalStageAtItsFirstLe
   ParameterSet params = verdict_training();  // its 2-epoch pretraining is too short to stop
   params.set("pit_epochs", "8");
   expect_stop_at_first_level_epoch("pits-sc", params, "pseudo-incremental", 8, {12, 13, 14, 15});
+}
+
+// So does PA-PCT's PCTS, its released 10 epochs the cap (here 8).
+TEST(TrainingVerdict, BaseStopConvergedEndsPaPctsPctsAtItsFirstLevelEpoch) {
+  ParameterSet params = verdict_training();
+  params.set("pa_pct_epochs", "8");
+  expect_stop_at_first_level_epoch("pa-pct", params, "pcts", 8, {12, 13, 14, 15, 16, 17});
 }
 
 // OrCo's projector phase stops the same way, but never before its released length (orco_base_epochs,

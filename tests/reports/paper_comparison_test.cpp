@@ -102,6 +102,21 @@ TEST(PaperComparison, TheComparedMethodsStandBesideTheirRowsWhereThePaperHasThem
   EXPECT_EQ(rows[5].paper, (std::vector<double>{92.63, 92.25, 92.20, 7.64, 89.24, 1.07}));
 }
 
+// PA-PCT stands in both the tactile and the audio tables.
+TEST(PaperComparison, PaPctStandsBesideItsRowsInBothTables) {
+  std::vector<PaperRow> table = paper();
+  table.push_back({"results_haptex", "HapTex", "PA-PCT", "Interspeech26", {95.68, 90.80, 86.86}, 24.86, 81.48, 3.28});
+  table.push_back({"results_ns100", "NS-100", "PA-PCT", "Interspeech26", {99.98, 98.90, 97.96}, 8.82, 95.27, 1.02});
+  const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("pa-pct", "haptex", 1, {80, 40, 20}),
+                                                       run_with_accuracies("pa-pct", "ns100", 1, {80, 40, 20})}),
+                                       table);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].paper_method, "PA-PCT");
+  EXPECT_EQ(rows[0].paper, (std::vector<double>{95.68, 90.80, 86.86, 24.86, 81.48, 3.28}));
+  EXPECT_EQ(rows[1].paper_method, "PA-PCT");
+  EXPECT_EQ(rows[1].paper, (std::vector<double>{99.98, 98.90, 97.96, 8.82, 95.27, 1.02}));
+}
+
 TEST(PaperComparison, SessionsBeyondThePapersAreLeftOut) {
   const auto rows = compare_with_paper(summarize_runs({run_with_accuracies("cop-fscil", "lmt108", 1, {90, 80, 70})}), paper());
   ASSERT_EQ(rows.size(), 1u);
