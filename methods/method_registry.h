@@ -22,6 +22,7 @@ struct RunSizes {
   std::int64_t base_validation = 0;  // its validation samples
   int base_classes = 0, way = 0, shot = 0;
   int sessions = 0;                  // including the base session
+  int removing_sessions = 0;         // of them, sessions that only remove classes and train nothing
   std::int64_t sample_values = 0;    // one sample's log-Mel values (channels x Mel bins x frames)
   std::vector<std::int64_t> scored;  // per session: the samples it scores (every class seen by then)
   int total_classes() const { return base_classes + way * (sessions - 1); }

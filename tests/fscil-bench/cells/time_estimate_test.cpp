@@ -45,6 +45,11 @@ TEST(RunSeconds, AddsEveryStageAtTheMeasuredRatesAndTheRunnersScoring) {
   entry.sessions_keep_embedding = false;
   EXPECT_NEAR(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 1.1 * 184.1, 1e-9);
   EXPECT_TRUE(stages.empty()) << "no stage of this entry is shared";
+  // Under removal=fciac one of the two incremental sessions only removes classes: half the
+  // sessions' work (2.5 inferred, 10 head steps), the base's and the scoring as they were.
+  RunSizes removing = three_sessions();
+  removing.removing_sessions = 1;
+  EXPECT_NEAR(run_seconds(entry, ParameterSet(), removing, rates, false, stages), 1.1 * (184.1 - 0.25 - 0.1), 1e-9);
 }
 
 TEST(RunSeconds, ASharedStageIsCountedByTheFirstRunThatTrainsIt) {

@@ -186,12 +186,17 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
     for (const auto& key : entry.base_epoch_keys) epochs += static_cast<double>(read.integer(key, 0, ValidRange::at_least(0)));
     stages.push_back({"base", epochs * static_cast<double>(sizes.base_train)});
   }
+  // A method counts its sessions' work as if each added classes; a removing session trains nothing.
+  const int incremental = sizes.sessions - 1;
+  const double training_share =
+      incremental > 0 ? static_cast<double>(incremental - sizes.removing_sessions) / incremental : 1.0;
   for (const StageWork& stage : stages) {
     if (stage.base && base_trained) continue;
     if (entry.shared_stages.count(stage.stage) > 0 && !trained_stages.insert(stage.stage).second) continue;
-    trained += stage.trained;
-    inferred += stage.inferred;
-    head_steps += stage.head_steps;
+    const double share = stage.base ? 1.0 : training_share;
+    trained += share * stage.trained;
+    inferred += share * stage.inferred;
+    head_steps += share * stage.head_steps;
   }
   // The runner: scored samples embedded once per run or every session, then the timed passes.
   inferred += entry.sessions_keep_embedding

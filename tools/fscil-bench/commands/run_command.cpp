@@ -718,6 +718,7 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
     for (int session = 0; session < run.sessions; ++session) {
+      if (session > 0 && !schedule.plan.adds_classes(session)) ++run.removing_sessions;
       const int seen = schedule.plan.seen_after(session);
       const std::vector<int> removed = schedule.plan.removed_by(session);
       run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
