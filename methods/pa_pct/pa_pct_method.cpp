@@ -12,6 +12,7 @@
 #include "methods/common/module_cost.h"
 #include "methods/common/embedding.h"
 #include "methods/common/supervised_training.h"
+#include "methods/common/torch_random_state.h"
 #include "methods/pa_pct/pcts_episode.h"
 #include "methods/pa_pct/session_attention_step.h"
 #include "methods/pan/prototype_query_attention.h"
@@ -46,7 +47,13 @@ PaPctMethod::PaPctMethod(const ParameterSet& params) : PanMethod(params), pa_pct
 
 NamedModules PaPctMethod::build(const RunContext& context) {
   NamedModules modules = PanMethod::build(context);
-  gated_ = GatedAttention(encoder_->embedding_size());
+  {
+    // Drawn aside from the stream PAN's stages draw from, so that they are pan's to the bit: the
+    // two methods share them (PanMethod::kBaseStages).
+    const torch::Tensor stream = torch_random_state();
+    gated_ = GatedAttention(encoder_->embedding_size());
+    restore_torch_random_state(stream);
+  }
   gated_->eval();  // its dropouts act only where PCTS and sessions train it
   modules.push_back({"gated_attention", gated_.ptr()});
   return modules;
@@ -221,6 +228,9 @@ MethodEntry pa_pct_entry() {
   };
   entry.sessions_keep_embedding = true;
   entry.session_only_parameters.insert("pa_pct_session_lr");
+  // Its own values act only after PAN's stages, which it shares with pan.
+  entry.shared_stages[PanMethod::kBaseStages] = {"pa_pct_epochs", "pa_pct_episodes", "pa_pct_alpha",
+                                                 "pa_pct_encoder_lr", "pa_pct_attention_lr"};
   // Smoke checks the machinery, not the schedule (ours).
   entry.profile_defaults["smoke"].push_back({"pa_pct_epochs", "1"});
   entry.profile_defaults["smoke"].push_back({"pa_pct_episodes", "2"});

@@ -8,8 +8,10 @@
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/module_state.h"
 #include "methods/common/session_order.h"
 #include "methods/common/supervised_training.h"
+#include "methods/common/torch_random_state.h"
 #include "methods/pan/attention_prototypes.h"
 #include "methods/pan/new_row_finetune.h"
 #include "methods/pan/pan_episode.h"
@@ -70,15 +72,52 @@ void PanMethod::train_base(const SessionData& base, RunContext& context) {
                                   "embedding has {}",
                                   classes, encoder_->embedding_size()));
   }
-  const std::int64_t temporary_base = temporary_base_classes(classes, settings_.temporary_base);
-  context.diagnostics["temporary_base_classes"] = static_cast<double>(temporary_base);
-  train_standard(first_classes(base, temporary_base), temporary_base, "temporary_standard", context);
-  train_pseudo_incremental(base, temporary_base, context);
-  train_standard(base, classes, "standard", context);
-  // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
-  classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
-  seen_classes_->add(classes);
+  if (!take_shared_stages(context)) {
+    const std::int64_t temporary_base = temporary_base_classes(classes, settings_.temporary_base);
+    context.diagnostics["temporary_base_classes"] = static_cast<double>(temporary_base);
+    train_standard(first_classes(base, temporary_base), temporary_base, "temporary_standard", context);
+    train_pseudo_incremental(base, temporary_base, context);
+    train_standard(base, classes, "standard", context);
+    // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
+    classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
+    seen_classes_->add(classes);
+    share_stages(context);
+  }
   record_base_validation(*this, context);
+}
+
+// Shared only where every epoch is the last: a selection keeps epochs by a score that the methods
+// sharing the stages need not compute alike.
+bool PanMethod::stages_shareable(const RunContext& context) const {
+  return context.stages != nullptr && context.selection == EpochSelection::last;
+}
+
+bool PanMethod::take_shared_stages(RunContext& context) {
+  if (!stages_shareable(context)) return false;
+  std::optional<TrainedStage> stage = context.stages->find(kBaseStages);
+  if (!stage) return false;
+  for (const auto& [prefix, module] : shared_modules()) take_module(stage->state, prefix, *module);
+  context.generator = stage->generator;
+  restore_torch_random_state(stage->torch_random_state);
+  context.training_log.insert(context.training_log.begin(), stage->training_log.begin(), stage->training_log.end());
+  context.diagnostics.insert(stage->diagnostics.begin(), stage->diagnostics.end());
+  context.session_clock = Stopwatch::started_seconds_ago(stage->seconds);
+  return true;
+}
+
+void PanMethod::share_stages(RunContext& context) {
+  if (!stages_shareable(context)) return;
+  TrainedStage stage{{}, context.generator, torch_random_state(), context.training_log, context.diagnostics,
+                     context.session_clock.seconds()};
+  for (const auto& [prefix, module] : shared_modules()) put_module(stage.state, prefix, *module);
+  context.stages->store(kBaseStages, std::move(stage));
+}
+
+std::vector<std::pair<std::string, torch::nn::Module*>> PanMethod::shared_modules() {
+  return {{"encoder.", encoder_.get()},
+          {"classifier.", classifier_.get()},
+          {"attention.", attention_.get()},
+          {"seen_classes.", seen_classes_.get()}};
 }
 
 // Stages (a) and (c) (standard_train_helper.py L10-L56 at 9f784713): the encoder alone, in train
@@ -238,6 +277,7 @@ MethodEntry pan_entry() {
   entry.profile_defaults = pretraining_profiles({{"smoke", {{"pan_pit_episodes", "4"}}}});
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session
   entry.session_only_parameters = {"pan_session_steps", "pan_session_lr"};
+  entry.shared_stages[PanMethod::kBaseStages] = {};  // pa-pct trains them alike
   return entry;
 }
 

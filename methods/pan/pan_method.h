@@ -24,6 +24,10 @@ namespace fscil {
 // is scored by PQA against all seen rows.
 class PanMethod : public ModuleMethod {
  public:
+  // Its three base stages and the rows after them, which PA-PCT trains alike and so shares
+  // (MethodEntry::shared_stages).
+  static constexpr const char* kBaseStages = "pan base stages";
+
   explicit PanMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;
@@ -40,6 +44,11 @@ class PanMethod : public ModuleMethod {
 
  private:
   void train_standard(const SessionData& base, std::int64_t classes, const std::string& stage, RunContext& context);
+  bool stages_shareable(const RunContext& context) const;
+  // Takes the base stages from RunContext::stages, or keeps them there once trained.
+  bool take_shared_stages(RunContext& context);
+  void share_stages(RunContext& context);
+  std::vector<std::pair<std::string, torch::nn::Module*>> shared_modules();
   void train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context);
 
  protected:
