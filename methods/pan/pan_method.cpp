@@ -8,10 +8,9 @@
 #include "methods/common/best_epoch.h"
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
-#include "methods/common/module_state.h"
 #include "methods/common/session_order.h"
+#include "methods/common/shared_stage.h"
 #include "methods/common/supervised_training.h"
-#include "methods/common/torch_random_state.h"
 #include "methods/pan/attention_prototypes.h"
 #include "methods/pan/new_row_finetune.h"
 #include "methods/pan/pan_episode.h"
@@ -96,24 +95,15 @@ bool PanMethod::take_shared_stages(RunContext& context) {
   if (!stages_shareable(context)) return false;
   std::optional<TrainedStage> stage = context.stages->find(kBaseStages);
   if (!stage) return false;
-  for (const auto& [prefix, module] : shared_modules()) take_module(stage->state, prefix, *module);
-  context.generator = stage->generator;
-  restore_torch_random_state(stage->torch_random_state);
-  context.training_log.insert(context.training_log.begin(), stage->training_log.begin(), stage->training_log.end());
-  context.diagnostics.insert(stage->diagnostics.begin(), stage->diagnostics.end());
-  context.session_clock = Stopwatch::started_seconds_ago(stage->seconds);
+  continue_from_stage(*stage, shared_modules(), context);
   return true;
 }
 
 void PanMethod::share_stages(RunContext& context) {
-  if (!stages_shareable(context)) return;
-  TrainedStage stage{{}, context.generator, torch_random_state(), context.training_log, context.diagnostics,
-                     context.session_clock.seconds()};
-  for (const auto& [prefix, module] : shared_modules()) put_module(stage.state, prefix, *module);
-  context.stages->store(kBaseStages, std::move(stage));
+  if (stages_shareable(context)) context.stages->store(kBaseStages, file_stage(context, shared_modules()));
 }
 
-std::vector<std::pair<std::string, torch::nn::Module*>> PanMethod::shared_modules() {
+StageModules PanMethod::shared_modules() {
   return {{"encoder.", encoder_.get()},
           {"classifier.", classifier_.get()},
           {"attention.", attention_.get()},

@@ -5,6 +5,7 @@
 #include "methods/common/class_count.h"
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
+#include "methods/common/shared_stage.h"
 #include "methods/method_registry.h"
 #include "methods/module_method.h"
 #include "methods/pan/pan_attention.h"
@@ -48,7 +49,7 @@ class PanMethod : public ModuleMethod {
   // Takes the base stages from RunContext::stages, or keeps them there once trained.
   bool take_shared_stages(RunContext& context);
   void share_stages(RunContext& context);
-  std::vector<std::pair<std::string, torch::nn::Module*>> shared_modules();
+  StageModules shared_modules();
   void train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context);
 
  protected:

@@ -10,10 +10,10 @@
 #include "methods/common/module_cost.h"
 #include "methods/common/module_state.h"
 #include "methods/common/session_order.h"
+#include "methods/common/shared_stage.h"
 #include "methods/common/mixing.h"
 #include "methods/common/running_statistics_guard.h"
 #include "methods/common/supervised_training.h"
-#include "methods/common/torch_random_state.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 #include "methods/pits_sc/session_finetune.h"
 #include "core/random_draws.h"
@@ -111,23 +111,14 @@ bool PitsScMethod::take_shared_pretraining(RunContext& context) {
   if (!pretraining_shareable(context)) return false;
   std::optional<TrainedStage> stage = context.stages->find(kPretrainingStage);
   if (!stage) return false;
-  take_module(stage->state, "encoder.", *encoder_);
-  take_module(stage->state, "classifier.", *classifier_);
+  continue_from_stage(*stage, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}}, context);
   context_bank().restore_from(stage->state, "context_bank.");
-  context.generator = stage->generator;
-  restore_torch_random_state(stage->torch_random_state);
-  context.training_log.insert(context.training_log.begin(), stage->training_log.begin(), stage->training_log.end());
-  context.diagnostics.insert(stage->diagnostics.begin(), stage->diagnostics.end());
-  context.session_clock = Stopwatch::started_seconds_ago(stage->seconds);
   return true;
 }
 
 void PitsScMethod::share_pretraining(RunContext& context) {
   if (!pretraining_shareable(context)) return;
-  TrainedStage stage{{}, context.generator, torch_random_state(), context.training_log, context.diagnostics,
-                     context.session_clock.seconds()};
-  put_module(stage.state, "encoder.", *encoder_);
-  put_module(stage.state, "classifier.", *classifier_);
+  TrainedStage stage = file_stage(context, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}});
   context_bank().save_into(stage.state, "context_bank.");
   context.stages->store(kPretrainingStage, std::move(stage));
 }

@@ -1,0 +1,21 @@
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "methods/method.h"
+
+namespace fscil {
+
+// A base stage that several methods train alike (MethodEntry::shared_stages), as a method files
+// it in RunContext::stages and takes it back: `modules` (prefix, module) are copied in and out;
+// the random streams, training log, diagnostics and clock go with them, so that a run taking the
+// stage continues exactly as one that trained it.
+using StageModules = std::vector<std::pair<std::string, torch::nn::Module*>>;
+
+// The stage as `context` stands after it, with copies of `modules`.
+TrainedStage file_stage(const RunContext& context, const StageModules& modules);
+// `stage` written into `modules` and `context`, as if the run had just trained it.
+void continue_from_stage(const TrainedStage& stage, const StageModules& modules, RunContext& context);
+
+}  // namespace fscil
