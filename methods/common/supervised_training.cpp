@@ -55,7 +55,11 @@ void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& s
 
 bool stop_once_levelled_off(const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                             int epoch) {
-  if (!schedule.stop_when_converged || !stage_has_levelled_off(context.training_log, phase)) return false;
+  return stop_once_levelled_off(schedule.stop_when_converged, context, phase, epoch);
+}
+
+bool stop_once_levelled_off(bool may_stop, RunContext& context, const std::string& phase, int epoch) {
+  if (!may_stop || !stage_has_levelled_off(context.training_log, phase)) return false;
   context.diagnostics[phase + "_converged_epoch"] = epoch;
   return true;
 }

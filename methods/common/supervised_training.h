@@ -69,6 +69,9 @@ void set_learning_rate(torch::optim::SGD& optimizer, const SupervisedSchedule& s
 // it has. Every stage that stops by base_stop=converged asks here.
 bool stop_once_levelled_off(const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
                             int epoch);
+// The same where the stage stops by another test than its schedule's (`may_stop`: OrCo's projector
+// from its released epochs on).
+bool stop_once_levelled_off(bool may_stop, RunContext& context, const std::string& phase, int epoch);
 
 // The loss of one mini-batch (features and labels already gathered).
 using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, const torch::Tensor& labels)>;

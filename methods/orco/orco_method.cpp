@@ -13,7 +13,6 @@
 #include "methods/common/shuffled_batches.h"
 #include "methods/orco/orco_losses.h"
 #include "methods/orco/pseudo_targets.h"
-#include "metrics/convergence.h"
 #include "core/random_draws.h"
 #include "core/stop_request.h"
 
@@ -210,11 +209,8 @@ void OrcoMethod::train_projector(const torch::Tensor& views, const torch::Tensor
     context.log_epoch(phase, epoch + 1, schedule.epochs, {{"loss", loss_sum / batches}, {"lr", rate}});
     if (after_epoch) after_epoch();
     epochs_trained = epoch + 1;
-    if (schedule.levelled_off_stop_from > 0 && epochs_trained >= schedule.levelled_off_stop_from &&
-        stage_has_levelled_off(context.training_log, phase)) {
-      context.diagnostics[phase + "_converged_epoch"] = epochs_trained;
-      break;
-    }
+    const bool may_stop = schedule.levelled_off_stop_from > 0 && epochs_trained >= schedule.levelled_off_stop_from;
+    if (stop_once_levelled_off(may_stop, context, phase, epochs_trained)) break;
     const bool check = (epochs_trained - stop.first_check) % stop.check_every == 0 ||
                        (stop.check_last && epochs_trained == schedule.epochs);
     if (!score || !check) continue;

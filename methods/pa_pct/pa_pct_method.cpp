@@ -10,6 +10,7 @@
 #include "methods/common/best_epoch.h"
 #include "methods/common/class_members.h"
 #include "methods/common/module_cost.h"
+#include "methods/common/session_order.h"
 #include "methods/common/embedding.h"
 #include "methods/common/supervised_training.h"
 #include "methods/common/torch_random_state.h"
@@ -32,18 +33,9 @@ PitsScSettings pcts_episode_settings(const PaPctSettings& settings) {
   return episode;
 }
 
-torch::optim::OptimizerParamGroup sgd_group(std::vector<torch::Tensor> parameters, double learning_rate, double momentum,
-                                            double weight_decay, bool nesterov) {
-  return torch::optim::OptimizerParamGroup(
-      std::move(parameters), std::make_unique<torch::optim::SGDOptions>(torch::optim::SGDOptions(learning_rate)
-                                                                            .momentum(momentum)
-                                                                            .nesterov(nesterov)
-                                                                            .weight_decay(weight_decay)));
-}
-
 }  // namespace
 
-PaPctMethod::PaPctMethod(const ParameterSet& params) : PanMethod(params), pa_pct_(PaPctSettings::from(params)) {}
+PaPctMethod::PaPctMethod(const ParameterSet& params) : PanMethod(params), pa_pct_settings_(PaPctSettings::from(params)) {}
 
 NamedModules PaPctMethod::build(const RunContext& context) {
   NamedModules modules = PanMethod::build(context);
@@ -55,70 +47,69 @@ NamedModules PaPctMethod::build(const RunContext& context) {
     restore_torch_random_state(stream);
   }
   gated_->eval();  // its dropouts act only where PCTS and sessions train it
+  // slf_attn's copy never trains (fscil_trainer.py L231-L234), whether trained here or restored.
+  for (auto& parameter : gated_->settled->parameters()) parameter.requires_grad_(false);
   modules.push_back({"gated_attention", gated_.ptr()});
   return modules;
 }
 
 void PaPctMethod::train_base(const SessionData& base, RunContext& context) {
-  PanMethod::train_base(base, context);
+  train_pan_stages(base, context);
   {
-    // inc_attn starts as a copy of slf_attn, which is frozen from now on (fscil_trainer.py L231-L234).
+    // Both branches start as PAN's attention: slf_attn, frozen, and inc_attn (fscil_trainer.py L231-L234).
     torch::NoGradGuard no_grad;
     for (PanAttention* branch : {&gated_->settled, &gated_->incremental}) {
       const auto from = attention_->parameters(), to = (*branch)->parameters();
       for (std::size_t i = 0; i < from.size(); ++i) to[i].copy_(from[i]);
     }
   }
-  for (auto& parameter : gated_->settled->parameters()) parameter.requires_grad_(false);
   train_pcts(base, context);
-  // The base rows are the class means again (T L282-L286).
+  // The base rows are the class means again, of the kept encoder (T L282 reloads it, L283 the means).
   const std::int64_t classes = context.base_classes;
   classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
   record_base_validation(*this, context);
 }
 
 void PaPctMethod::train_pcts(const SessionData& base, RunContext& context) {
-  if (pa_pct_.pcts_epochs == 0) return;
-  const PitsScSettings shape_settings = pcts_episode_settings(pa_pct_);
+  if (pa_pct_settings_.pcts_epochs == 0) return;
+  const PitsScSettings shape_settings = pcts_episode_settings(pa_pct_settings_);
   const PitEpisodeSampler sampler(base, context.base_classes, context.total_classes, shape_settings);
-  const double momentum = settings_.standard.momentum, decay = settings_.standard.weight_decay;
   std::vector<torch::optim::OptimizerParamGroup> groups;
-  groups.push_back(sgd_group(encoder_parameters(), pa_pct_.pcts_encoder_lr, momentum, decay, true));
-  groups.push_back(sgd_group(gated_->incremental->parameters(), pa_pct_.pcts_attention_lr, momentum, decay, true));
-  groups.push_back(sgd_group(gated_->gate->parameters(), pa_pct_.pcts_gate_lr, momentum, decay, true));
-  torch::optim::SGD optimizer(std::move(groups), torch::optim::SGDOptions(pa_pct_.pcts_encoder_lr));
+  groups.push_back(episode_group(encoder_parameters(), pa_pct_settings_.pcts_encoder_lr));
+  groups.push_back(episode_group(gated_->incremental->parameters(), pa_pct_settings_.pcts_attention_lr));
+  groups.push_back(episode_group(gated_->gate->parameters(), pa_pct_settings_.pcts_gate_lr));
+  torch::optim::SGD optimizer(std::move(groups), torch::optim::SGDOptions(pa_pct_settings_.pcts_encoder_lr));
   const torch::Tensor base_rows = classifier_->weight().slice(0, 0, context.base_classes).detach().clone();
   const auto embed = [&](const torch::Tensor& features) { return encoder_->forward(features); };
-  const auto attend = [&](const torch::Tensor& tokens) { return gated_->forward(tokens); };
+  const AttentionFunction attend = gated_attention();
   PctsRemovalWeights weights;
   // An episode shrunk for a small protocol forgets fewer, keeping one; one with a single
   // pseudo-class has no removal half-step (ours, for tests' tiny protocols; the release's 5 pairs forget 2).
-  weights.forgotten = std::min(pa_pct_.pcts_forgotten, sampler.shape().pairs - 1);
+  weights.forgotten = std::min(pa_pct_settings_.pcts_forgotten, sampler.shape().pairs - 1);
   const bool removes = weights.forgotten >= 1;
   if (!removes) context.diagnostics["pcts_without_removal"] = 1;
-  weights.separation_weight = pa_pct_.separation_weight;
-  weights.separation_margin = pa_pct_.separation_margin;
-  weights.topology_weight = pa_pct_.topology_weight;
-  weights.topology_sigma = pa_pct_.topology_sigma;
+  weights.separation_weight = pa_pct_settings_.separation_weight;
+  weights.separation_margin = pa_pct_settings_.separation_margin;
+  weights.topology_weight = pa_pct_settings_.topology_weight;
+  weights.topology_sigma = pa_pct_settings_.topology_sigma;
   // Each epoch is scored as the base session would end after it: the rows the class means of the
   // current encoder, through the gated attention. Under a selection, an epoch is kept only if it
-  // scores at least what PAN's stages ended at (fscil_trainer.py L240-L249, which scores the test
-  // set: ours, base validation).
+  // scores at least what PAN's stages ended at (fscil_trainer.py L240-L250, on its base loader's
+  // `val` split, dataloader.py L391-L419; here base validation).
   BestEpoch best({encoder_.get(), gated_.get()});
   const auto logits_of = [&](const SessionData& scored) {
     const torch::Tensor means = class_means(embed_rows(base.features), base.labels, class_range(0, context.base_classes));
-    const auto attend_all = [&](const torch::Tensor& tokens) { return gated_->forward(tokens); };
-    return pqa_logits(attend_all, means, embed_rows(scored.features), settings_.temperature);
+    return pqa_logits(attend, means, embed_rows(scored.features), settings_.temperature);
   };
   if (const SessionData* selection = context.base_selection_data()) best.consider("pcts", 0, top1_accuracy(*selection, logits_of));
   const auto train_mode = [&](bool on) {
     encoder_->train(on);  // the release trains PCTS with the whole model in train mode (PCA.py L60)
     gated_->train(on);
   };
-  for (int epoch = 0; epoch < pa_pct_.pcts_epochs; ++epoch) {
+  for (int epoch = 0; epoch < pa_pct_settings_.pcts_epochs; ++epoch) {
     train_mode(true);
     double addition_sum = 0, removal_sum = 0;
-    for (int e = 0; e < pa_pct_.pcts_episodes; ++e) {
+    for (int e = 0; e < pa_pct_settings_.pcts_episodes; ++e) {
       const PitEpisode episode = sampler.draw(context.generator, context.front_end);
       const PctsAddition addition = pcts_addition(embed, attend, base_rows, context.total_classes, episode,
                                                   sampler.shape(), settings_.temperature);
@@ -128,7 +119,7 @@ void PaPctMethod::train_pcts(const SessionData& base, RunContext& context) {
       addition_sum += addition.loss.item<double>();
       stop_if_requested();
       if (!removes) continue;
-      const double lambda = beta(context.generator, pa_pct_.pcts_alpha, pa_pct_.pcts_alpha);
+      const double lambda = beta(context.generator, pa_pct_settings_.pcts_alpha, pa_pct_settings_.pcts_alpha);
       const PctsRemoval removal = pcts_removal(embed, attend, addition, context.base_classes, base, context.front_end,
                                                episode, sampler.shape(), lambda, settings_.temperature, weights);
       optimizer.zero_grad();
@@ -137,8 +128,8 @@ void PaPctMethod::train_pcts(const SessionData& base, RunContext& context) {
       stop_if_requested();
       removal_sum += removal.loss.item<double>();
     }
-    const double episodes = pa_pct_.pcts_episodes;
-    context.log_epoch("pcts", epoch + 1, pa_pct_.pcts_epochs,
+    const double episodes = pa_pct_settings_.pcts_episodes;
+    context.log_epoch("pcts", epoch + 1, pa_pct_settings_.pcts_epochs,
                       {{"loss", (addition_sum + removal_sum) / episodes},
                        {"addition_loss", addition_sum / episodes},
                        {"removal_loss", removal_sum / episodes}});
@@ -151,17 +142,17 @@ void PaPctMethod::train_pcts(const SessionData& base, RunContext& context) {
 }
 
 void PaPctMethod::learn_session(const SessionData& support, RunContext& context) {
+  check_session_order(support, seen_classes_->value());  // before anything trains
   {
     const torch::Tensor shots = embed_in_batches(encoder_, support.features).detach();
     std::vector<torch::Tensor> parameters = gated_->incremental->parameters();
     for (const auto& parameter : gated_->gate->parameters()) parameters.push_back(parameter);
-    torch::optim::SGD optimizer(parameters, torch::optim::SGDOptions(pa_pct_.session_attention_lr)
+    torch::optim::SGD optimizer(parameters, torch::optim::SGDOptions(pa_pct_settings_.session_attention_lr)
                                                 .momentum(0.9)
                                                 .weight_decay(1e-4));  // CANetwork.py L403-L406
-    const auto attend = [&](const torch::Tensor& tokens) { return gated_->forward(tokens); };
-    gated_->incremental->train();  // inc_attn and the gate train; slf_attn stays in eval mode (N L416, L489)
+    gated_->incremental->train();  // only inc_attn and the gate train (N L379-L393), in train mode (N L416-L419)
     const torch::Tensor loss =
-        session_attention_loss(attend, shots, support.labels, support.new_classes, settings_.temperature);
+        session_attention_loss(gated_attention(), shots, support.labels, support.new_classes, settings_.temperature);
     optimizer.zero_grad();
     loss.backward();
     optimizer.step();
@@ -179,8 +170,11 @@ void PaPctMethod::forget_classes(const std::vector<std::int64_t>& classes, RunCo
 torch::Tensor PaPctMethod::classify(const torch::Tensor& embeddings) {
   torch::NoGradGuard no_grad;
   const std::int64_t seen = seen_classes_->value();
-  const auto attend = [&](const torch::Tensor& tokens) { return gated_->forward(tokens); };
-  return pqa_logits(attend, classifier_->weight().slice(0, 0, seen), embeddings, settings_.temperature);
+  return pqa_logits(gated_attention(), classifier_->weight().slice(0, 0, seen), embeddings, settings_.temperature);
+}
+
+PaPctMethod::AttentionFunction PaPctMethod::gated_attention() {
+  return [this](const torch::Tensor& tokens) { return gated_->forward(tokens); };
 }
 
 ModelCost PaPctMethod::inference_cost(const InputShape& input) const {
@@ -215,18 +209,23 @@ MethodEntry pa_pct_entry() {
   entry.base_epoch_keys.push_back("pa_pct_epochs");
   const auto pan_work = entry.work;
   entry.work = [pan_work](const ParameterSet& read, const RunSizes& sizes) {
-    std::vector<StageWork> stages = pan_work(read, sizes);
+    std::vector<StageWork> stages = pan_work(read, sizes);  // PAN's shared stages, then its sessions
     const PaPctSettings settings = PaPctSettings::from(read);
-    // Per episode: the kept and mixed samples through the encoder, then the removal half-step's forward only.
-    const double samples = static_cast<double>(settings.pcts_way) * settings.pcts_samples;
-    StageWork pcts{"pcts", settings.pcts_epochs * settings.pcts_episodes * samples};
-    // Each epoch's scoring embeds the base samples for their means and base validation.
-    pcts.inferred = settings.pcts_epochs *
-                    (settings.pcts_episodes * samples + static_cast<double>(sizes.base_train + sizes.base_validation));
-    stages.insert(stages.begin() + 2, pcts);
+    const PitEpisodeShape episode =
+        pit_episode_shape(pcts_episode_settings(settings), sizes.base_classes, sizes.total_classes() - sizes.base_classes);
+    const int retained = std::max(0, episode.pairs - std::min(settings.pcts_forgotten, episode.pairs - 1));
+    // Per episode: the kept and mixed samples trained; the removal half-step's kept and re-mixed
+    // samples through the frozen encoder. Each epoch's scoring embeds the base samples for their
+    // means and base validation. Under base_stop=converged it stops where such stages typically do.
+    SupervisedSchedule pcts_schedule = PanSettings::from(read).standard;
+    pcts_schedule.epochs = settings.pcts_epochs;
+    const double epochs = pcts_schedule.expected_epochs();
+    StageWork pcts{"pcts", epochs * settings.pcts_episodes * (episode.kept + episode.pairs) * episode.per_class()};
+    pcts.inferred = epochs * (settings.pcts_episodes * (episode.kept + retained) * episode.per_class() +
+                              static_cast<double>(sizes.base_train + sizes.base_validation));
+    stages.insert(stages.begin() + 1, pcts);
     return stages;
   };
-  entry.sessions_keep_embedding = true;
   entry.session_only_parameters.insert("pa_pct_session_lr");
   // Its own values act only after PAN's stages, which it shares with pan.
   entry.shared_stages[PanMethod::kBaseStages] = {"pa_pct_epochs", "pa_pct_episodes", "pa_pct_alpha",

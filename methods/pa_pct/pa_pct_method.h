@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "methods/pa_pct/gated_attention.h"
@@ -30,9 +31,12 @@ class PaPctMethod : public PanMethod {
   NamedModules build(const RunContext& context) override;
 
  private:
+  using AttentionFunction = std::function<torch::Tensor(const torch::Tensor&)>;
   void train_pcts(const SessionData& base, RunContext& context);
+  // Tokens through the gated two-branch PQA, in whatever mode its modules are.
+  AttentionFunction gated_attention();
 
-  PaPctSettings pa_pct_;
+  PaPctSettings pa_pct_settings_;
   GatedAttention gated_{nullptr};
 };
 

@@ -6,7 +6,6 @@ namespace fscil {
 
 PaPctSettings PaPctSettings::from(const ParameterSet& params) {
   PaPctSettings s;
-  s.pan = PanSettings::from(params);
   s.pcts_epochs = static_cast<int>(params.integer("pa_pct_epochs", s.pcts_epochs, ValidRange::at_least(0)));
   s.pcts_episodes = static_cast<int>(params.integer("pa_pct_episodes", s.pcts_episodes, ValidRange::at_least(1)));
   s.pcts_alpha = params.real("pa_pct_alpha", s.pcts_alpha, ValidRange::above(0));

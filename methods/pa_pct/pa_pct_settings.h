@@ -1,18 +1,16 @@
 #pragma once
 #include <cstdint>
 
-#include "methods/pan/pan_settings.h"
 
 namespace fscil {
 
 class ParameterSet;
 
-// PA-PCT's hyper-parameters as named options. PAN's stages read PAN's (pan_*: PanSettings); the
-// rest are PA-PCT's own, their defaults the release's LS-100 config
-// (cgq2971-afk/FCIAC configs/stdu_LS-100_FCIAC.yml at 6ccc2082, "cfg") or its code where the config
-// is silent (PCA.py = "P", CANetwork.py = "N"). docs/methods.md will give each line and mark ours.
+// PA-PCT's own hyper-parameters as named options (PAN's stages read PAN's: PanSettings), their
+// defaults the release's LS-100 config (cgq2971-afk/FCIAC configs/stdu_LS-100_FCIAC.yml at
+// 6ccc2082, "cfg") or its code where the config is silent (PCA.py = "P", CANetwork.py = "N");
+// docs/methods.md, "pa-pct".
 struct PaPctSettings {
-  PanSettings pan;
   // PCTS, the pseudo class-variable training after PAN's stages (fscil_trainer.py L227-L295).
   int pcts_epochs = 10;             // pa_pct_epochs (epochs_base, cfg L25)
   int pcts_episodes = 50;           // pa_pct_episodes (episode2.train_episode, cfg L89)
@@ -29,8 +27,6 @@ struct PaPctSettings {
   double topology_weight = 1.0, topology_sigma = 0.5;       // lambda_T (P L66), sigma (P L6)
   // Sessions (update_fc_ad, N L368-L529).
   double session_attention_lr = 1e-5;  // pa_pct_session_lr: inc_attn and the gate (lr_inc2, cfg L34)
-  int replay_per_class = 5;            // features drawn per earlier class from its Gaussian (r_num, N L421)
-  double statistics_momentum = 0.8;    // a class's stored mean and covariance keep this share (N L755)
 
   static PaPctSettings from(const ParameterSet& params);
 };

@@ -53,6 +53,15 @@ NamedModules PanMethod::build(const RunContext& context) {
           {"seen_classes", seen_classes_.ptr()}};
 }
 
+torch::optim::OptimizerParamGroup PanMethod::episode_group(std::vector<torch::Tensor> parameters,
+                                                          double learning_rate) const {
+  return torch::optim::OptimizerParamGroup(
+      std::move(parameters), std::make_unique<torch::optim::SGDOptions>(torch::optim::SGDOptions(learning_rate)
+                                                                            .momentum(settings_.standard.momentum)
+                                                                            .nesterov(true)
+                                                                            .weight_decay(settings_.standard.weight_decay)));
+}
+
 // The release's optimisers take encoder.parameters(), and its bn0 belongs to the model around the
 // encoder (Network.py L151, L209): bn0's scale and shift are never trained. Ours is inside.
 std::vector<torch::Tensor> PanMethod::encoder_parameters() const {
@@ -64,6 +73,11 @@ std::vector<torch::Tensor> PanMethod::encoder_parameters() const {
 }
 
 void PanMethod::train_base(const SessionData& base, RunContext& context) {
+  train_pan_stages(base, context);
+  record_base_validation(*this, context);
+}
+
+void PanMethod::train_pan_stages(const SessionData& base, RunContext& context) {
   build_modules(context);
   const std::int64_t classes = context.base_classes;
   if (classes > encoder_->embedding_size()) {
@@ -82,7 +96,6 @@ void PanMethod::train_base(const SessionData& base, RunContext& context) {
     seen_classes_->add(classes);
     share_stages(context);
   }
-  record_base_validation(*this, context);
 }
 
 // Shared only where every epoch is the last: a selection keeps epochs by a score that the methods
@@ -135,16 +148,9 @@ void PanMethod::train_pseudo_incremental(const SessionData& base, std::int64_t t
   if (settings_.pit_epochs == 0) return;
   const PanEpisodeSampler sampler(base, temporary_base, context.base_classes, settings_.way, settings_.shot,
                                   settings_.query);
-  const auto group = [&](std::vector<torch::Tensor> parameters, double learning_rate) {
-    return torch::optim::OptimizerParamGroup(
-        std::move(parameters), std::make_unique<torch::optim::SGDOptions>(torch::optim::SGDOptions(learning_rate)
-                                                                              .momentum(settings_.standard.momentum)
-                                                                              .nesterov(true)
-                                                                              .weight_decay(settings_.standard.weight_decay)));
-  };
   std::vector<torch::optim::OptimizerParamGroup> groups;
-  groups.push_back(group(encoder_parameters(), settings_.encoder_lr));
-  groups.push_back(group(attention_->parameters(), settings_.attention_lr));
+  groups.push_back(episode_group(encoder_parameters(), settings_.encoder_lr));
+  groups.push_back(episode_group(attention_->parameters(), settings_.attention_lr));
   torch::optim::SGD optimizer(std::move(groups), torch::optim::SGDOptions(settings_.encoder_lr));
   encoder_->eval();  // the attentions have no dropout (the release runs them in eval mode only)
   for (int epoch = 0; epoch < settings_.pit_epochs; ++epoch) {
@@ -259,10 +265,16 @@ MethodEntry pan_entry() {
     const PanSettings pan = PanSettings::from(read);
     // (a) trains on the temporary base classes' share of the samples, (c) on all of them.
     const double temporary = static_cast<double>(temporary_base_classes(sizes.base_classes, pan.temporary_base));
-    StageWork standard = pretraining_work(read, sizes);
-    standard.trained *= 1 + temporary / sizes.base_classes;
-    const StageWork episodes{"pseudo-incremental", pan.pit_epochs * pan.pit_episodes * 2.0 * pan.way * (pan.shot + pan.query)};
-    return std::vector<StageWork>{standard, episodes, base_embedding_work(sizes), session_work(sizes, pan.session_steps)};
+    // The three stages and the rows after them are one shared stage (kBaseStages): plan counts them
+    // once for pan and pa-pct.
+    StageWork stages = pretraining_work(read, sizes);
+    stages.stage = PanMethod::kBaseStages;
+    stages.trained *= 1 + temporary / sizes.base_classes;
+    stages.trained += pan.pit_epochs * pan.pit_episodes * 2.0 * pan.way * (pan.shot + pan.query);
+    const StageWork rows = base_embedding_work(sizes);
+    stages.inferred += rows.inferred;
+    stages.head_steps += rows.head_steps;
+    return std::vector<StageWork>{stages, session_work(sizes, pan.session_steps)};
   };
   entry.profile_defaults = pretraining_profiles({{"smoke", {{"pan_pit_episodes", "4"}}}});
   entry.sessions_keep_embedding = true;  // the encoder is frozen after the base session

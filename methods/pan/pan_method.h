@@ -39,7 +39,11 @@ class PanMethod : public ModuleMethod {
  protected:
   NamedModules build(const RunContext& context) override;
   // PA-PCT grows from PAN (methods/pa_pct): its stages, modules and rows are PAN's.
+  // The three stages and the base rows, without scoring base validation after them.
+  void train_pan_stages(const SessionData& base, RunContext& context);
   std::vector<torch::Tensor> encoder_parameters() const;
+  // An episode optimiser's group: SGD Nesterov with the shared momentum and weight decay.
+  torch::optim::OptimizerParamGroup episode_group(std::vector<torch::Tensor> parameters, double learning_rate) const;
   // The seen rows' cosine logits in an inference cost.
   void count_rows_cost(ModelCost& cost) const;
 

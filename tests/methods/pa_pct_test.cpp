@@ -48,7 +48,7 @@ TEST(PaPctGatedAttention, TheGateMixesTheTwoBranchesPerToken) {
   attention->eval();
   const torch::Tensor tokens = torch::randn({2, 4, 8});
   EXPECT_EQ(attention->gate[0]->as<torch::nn::Linear>()->weight.sizes(), (std::vector<std::int64_t>{4, 16}))
-      << "D -> D / 2 -> 1, as the release's 512 -> 256 -> 1";
+      << "2D -> D / 2 -> 1, as the release's 1024 -> 256 -> 1";
   torch::NoGradGuard no_grad;
   auto* last = attention->gate[2]->as<torch::nn::Linear>();
   last->weight.zero_();
@@ -96,7 +96,6 @@ TEST(PaPctSettings, DefaultsAreTheReleasesLs100ConfigAndNamedOptionsOverrideThem
   EXPECT_DOUBLE_EQ(defaults.pcts_alpha, 0.8);
   EXPECT_DOUBLE_EQ(defaults.pcts_encoder_lr, 0.01);
   EXPECT_DOUBLE_EQ(defaults.session_attention_lr, 1e-5);
-  EXPECT_EQ(defaults.pan.session_steps, 10) << "PAN's stages and update read PAN's own keys";
   ParameterSet params;
   params.set("pa_pct_alpha", "3.0");  // NSynth-100's (stdu_nsynth100_FCIAC.yml L5)
   params.set("pa_pct_epochs", "20");

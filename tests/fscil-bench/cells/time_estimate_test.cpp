@@ -8,6 +8,7 @@
 
 #include "core/parameter_set.h"
 #include "methods/method_registry.h"
+#include "methods/pan/pan_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
 #include "tests/temporary_directory.h"
 #include "tools/fscil-bench/cells/time_estimate.h"
@@ -120,6 +121,11 @@ TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   EXPECT_DOUBLE_EQ(totals("arp").trained, 3 * (200 + 3.8 * 2 * 40));
   // PAN: (a) on 6 of the 10 classes' share, (c) on all; 4 episodes of 2 x 5 x 20.
   EXPECT_DOUBLE_EQ(totals("pan").trained, 3 * 200 * 1.6 + 4 * 200);
+  // pa-pct shares PAN's stages: both name them as the shared stage, so plan counts them once.
+  for (const std::string method : {"pan", "pa-pct"}) {
+    EXPECT_EQ(method_entry(method).work(smoke(method), three_sessions()).front().stage, PanMethod::kBaseStages);
+    EXPECT_EQ(method_entry(method).shared_stages.count(PanMethod::kBaseStages), 1u) << method;
+  }
   // AMFO: 10 epochs a session, each one batch: 10 draws of the 10 classes before it, 5 of each
   // new class and the 25 shots (150); then 10 x 15 + 50 (200); and 0.48 steps per earlier class.
   EXPECT_DOUBLE_EQ(totals("amfo").head_steps, 10 * (1 + 0.48 * 10) + 10 * (1 + 0.48 * 15));

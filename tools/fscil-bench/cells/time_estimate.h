@@ -68,7 +68,8 @@ std::string bf16_note(const Calibration& own);
 // embedding, every session otherwise) and the eight timed inference passes. A stage of the base
 // session is left out when `base_trained` (a method of its cell with the same shared_base_key
 // trained it); a stage the entry names in shared_stages is left out when `trained_stages` holds
-// it, and added there otherwise (a later cell of the same seed continues from it).
+// it, and added there otherwise (a later cell of the same seed continues from it). A stage after
+// the base session counts the adding sessions' share of it: a removing session trains nothing.
 double run_seconds(const MethodEntry& entry, const ParameterSet& read, const RunSizes& sizes, const StepRate& rates,
                    bool base_trained, std::set<std::string>& trained_stages);
 
