@@ -16,7 +16,7 @@ enum class ProjectorDecay { cosine, milestone };
 // Projector training of phase 2 or of an incremental session: SGD with momentum and dampening, the
 // rate following `decay`.
 struct ProjectorSchedule {
-  int epochs = 10;
+  int epochs = 10;  // all of them run, or at most these under levelled_off_stop_from
   double learning_rate = 0.25;
   double final_rate = 1e-5;
   double weight_decay = 5e-4;
