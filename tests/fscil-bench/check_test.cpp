@@ -53,5 +53,18 @@ TEST(Cli, CheckComparesResultsWithReferenceNumbersBothWays) {
       << drifted.output;
 }
 
+// The repository's own reference files are made again by their script, which holds every library
+// to the kernels they were made with; `check` says so whatever the files were checked against.
+TEST(Cli, CheckTellsTheRepositorysReferencesToBeRegeneratedByTheirScript) {
+  TemporaryDirectory out;
+  ASSERT_EQ(run_cli("--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out " +
+                    out.path().string()).exit_code, 0);
+  const std::string stored = (source_folder() / "reports" / "reference" / "simtex-mini-smoke.csv").string();
+  const CommandResult checked = run_cli("check --results " + out.path().string() + " --reference " + stored);
+  EXPECT_EQ(checked.exit_code, 1) << "1 thread against the stored 2";
+  EXPECT_NE(checked.output.find("regenerate with: bash tools/reference_protocol.sh regenerate\n"), std::string::npos)
+      << checked.output;
+}
+
 }  // namespace
 }  // namespace fscil

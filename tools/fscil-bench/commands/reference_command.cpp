@@ -22,9 +22,11 @@ namespace {
 std::string regenerate_command(const std::string& results, const std::string& reference,
                                std::optional<double> tolerance = std::nullopt) {
   std::error_code error;
-  const auto own = std::filesystem::weakly_canonical(reference_file(""), error);
+  // The folder itself: weakly_canonical drops a trailing separator, so the folder of "dir/" would
+  // read as dir's parent and the repository's files would be told a user's command.
+  const auto own = std::filesystem::weakly_canonical(reference_file("").parent_path(), error);
   const auto file = std::filesystem::weakly_canonical(reference, error);
-  if (!error && file.parent_path() == own.parent_path()) return kRegenerateReferences;
+  if (!error && file.parent_path() == own) return kRegenerateReferences;
   return fmt::format("fscil-bench reference --results {} --out {}{}", results, reference,
                      tolerance ? fmt::format(" --tolerance {}", *tolerance) : std::string());
 }
