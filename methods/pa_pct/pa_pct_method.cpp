@@ -33,6 +33,13 @@ PitsScSettings pcts_episode_settings(const PaPctSettings& settings) {
   return episode;
 }
 
+// The pseudo-classes an episode of `pairs` forgets: the release's count (5 pairs forget 2); a
+// shrunk episode forgets fewer, keeping one, and one of a single pair none, so that it has no
+// removal half-step (ours, for tests' tiny protocols).
+int forgotten_in(const PaPctSettings& settings, int pairs) {
+  return std::max(0, std::min(settings.removal.forgotten, pairs - 1));
+}
+
 }  // namespace
 
 PaPctMethod::PaPctMethod(const ParameterSet& params) : PanMethod(params), pa_pct_settings_(PaPctSettings::from(params)) {}
@@ -82,16 +89,10 @@ void PaPctMethod::train_pcts(const SessionData& base, RunContext& context) {
   const torch::Tensor base_rows = classifier_->weight().slice(0, 0, context.base_classes).detach().clone();
   const auto embed = [&](const torch::Tensor& features) { return encoder_->forward(features); };
   const AttentionFunction attend = gated_attention();
-  PctsRemovalWeights weights;
-  // An episode shrunk for a small protocol forgets fewer, keeping one; one with a single
-  // pseudo-class has no removal half-step (ours, for tests' tiny protocols; the release's 5 pairs forget 2).
-  weights.forgotten = std::min(pa_pct_settings_.pcts_forgotten, sampler.shape().pairs - 1);
+  PctsRemovalWeights weights = pa_pct_settings_.removal;
+  weights.forgotten = forgotten_in(pa_pct_settings_, sampler.shape().pairs);
   const bool removes = weights.forgotten >= 1;
   if (!removes) context.diagnostics["pcts_without_removal"] = 1;
-  weights.separation_weight = pa_pct_settings_.separation_weight;
-  weights.separation_margin = pa_pct_settings_.separation_margin;
-  weights.topology_weight = pa_pct_settings_.topology_weight;
-  weights.topology_sigma = pa_pct_settings_.topology_sigma;
   // Each epoch is scored as the base session would end after it: the rows the class means of the
   // current encoder, through the gated attention. Under a selection, an epoch is kept only if it
   // scores at least what PAN's stages ended at (fscil_trainer.py L240-L250, on its base loader's
@@ -213,7 +214,7 @@ MethodEntry pa_pct_entry() {
     const PaPctSettings settings = PaPctSettings::from(read);
     const PitEpisodeShape episode =
         pit_episode_shape(pcts_episode_settings(settings), sizes.base_classes, sizes.total_classes() - sizes.base_classes);
-    const int retained = std::max(0, episode.pairs - std::min(settings.pcts_forgotten, episode.pairs - 1));
+    const int retained = episode.pairs - forgotten_in(settings, episode.pairs);
     // Per episode: the kept and mixed samples trained; the removal half-step's kept and re-mixed
     // samples through the frozen encoder. Each epoch's scoring embeds the base samples for their
     // means and base validation. Under base_stop=converged it stops where such stages typically do.

@@ -64,10 +64,8 @@ PctsRemoval pcts_removal(const std::function<torch::Tensor(const torch::Tensor&)
   torch::Tensor kept, mixed;
   {
     torch::NoGradGuard frozen;  // the release sets the encoder's requires_grad to false (PCA.py L130-L131)
-    const torch::Tensor signals = lambda * base.signals.gather(torch::tensor(first)) +
-                                  (1 - lambda) * base.signals.gather(torch::tensor(second));
     kept = embed(episode.kept_features);
-    mixed = embed(front_end(signals)).view({retained_pseudo, per_class, -1});
+    mixed = embed(front_end(mix_signals(base.signals, first, second, lambda))).view({retained_pseudo, per_class, -1});
   }
   const torch::Tensor queries =
       torch::cat({kept, mixed.narrow(1, shape.shot, shape.query).reshape({retained_pseudo * shape.query, -1})});

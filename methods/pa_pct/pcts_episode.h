@@ -5,6 +5,7 @@
 #include <functional>
 #include <vector>
 
+#include "methods/pa_pct/pa_pct_settings.h"
 #include "methods/pits_sc/pseudo_incremental.h"
 
 namespace fscil {
@@ -33,10 +34,6 @@ PctsAddition pcts_addition(const std::function<torch::Tensor(const torch::Tensor
 // retained pseudo rows' labels (the release's; those rows hold the first pairs' prototypes), and
 // the kept samples are queries again. Loss = CE + separation_weight L_FS(the forgotten rows'
 // adapted prototypes before, the retained ones now) + topology_weight L_T(retained before, now).
-struct PctsRemovalWeights {
-  int forgotten = 2;
-  double separation_weight = 0.8, separation_margin = 0.5, topology_weight = 1.0, topology_sigma = 0.5;
-};
 struct PctsRemoval {
   torch::Tensor loss, classification, separation, topology;
   std::vector<std::int64_t> forgotten_rows, retained_rows;

@@ -50,6 +50,11 @@ std::vector<std::int64_t> PitEpisodeSampler::pick_samples(std::int64_t base_clas
   return picked;
 }
 
+torch::Tensor mix_signals(const SampleRows& signals, const std::vector<std::int64_t>& first,
+                          const std::vector<std::int64_t>& second, double lambda) {
+  return lambda * signals.gather(torch::tensor(first)) + (1 - lambda) * signals.gather(torch::tensor(second));
+}
+
 PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& front_end) const {
   std::vector<std::int64_t> classes(base_classes_);
   std::iota(classes.begin(), classes.end(), 0);
@@ -67,19 +72,15 @@ PitEpisode PitEpisodeSampler::draw(std::mt19937_64& generator, const FrontEnd& f
   episode.kept_labels = base_.labels.index_select(0, kept);
 
   episode.lambda = beta(generator, settings_.pit_alpha, settings_.pit_alpha);
-  std::vector<std::int64_t> first_index, second_index;
   for (int j = 0; j < shape_.pairs; ++j) {
     episode.first_class.push_back(classes[shape_.kept + j]);
     episode.second_class.push_back(classes[shape_.kept + shape_.pairs + j]);
     const auto first = pick_samples(episode.first_class.back(), generator);
     const auto second = pick_samples(episode.second_class.back(), generator);
-    first_index.insert(first_index.end(), first.begin(), first.end());
-    second_index.insert(second_index.end(), second.begin(), second.end());
+    episode.first_samples.insert(episode.first_samples.end(), first.begin(), first.end());
+    episode.second_samples.insert(episode.second_samples.end(), second.begin(), second.end());
   }
-  episode.first_samples = first_index;
-  episode.second_samples = second_index;
-  episode.mixed_signals = episode.lambda * base_.signals.gather(torch::tensor(first_index)) +
-                          (1 - episode.lambda) * base_.signals.gather(torch::tensor(second_index));
+  episode.mixed_signals = mix_signals(base_.signals, episode.first_samples, episode.second_samples, episode.lambda);
   episode.mixed_features = front_end(episode.mixed_signals);
 
   std::vector<std::int64_t> rows(total_classes_ - base_classes_);

@@ -23,6 +23,10 @@ struct PitEpisodeShape {
 };
 PitEpisodeShape pit_episode_shape(const PitsScSettings& settings, int base_classes, int novel_rows);
 
+// The raw-signal mixture lambda x s_first[i] + (1 - lambda) x s_second[i] of base samples.
+torch::Tensor mix_signals(const SampleRows& signals, const std::vector<std::int64_t>& first,
+                          const std::vector<std::int64_t>& second, double lambda);
+
 // One pseudo-incremental episode. Mixed samples are pair-major: pair j holds its `shot`
 // mixed shots, then its `query` mixed queries; mixed sample i of pair j is
 // lambda * (sample i of first_class[j]) + (1 - lambda) * (sample i of second_class[j]), on the raw signal.
