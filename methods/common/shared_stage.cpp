@@ -5,6 +5,10 @@
 
 namespace fscil {
 
+bool stages_shareable(const RunContext& context) {
+  return context.stages != nullptr && context.selection == EpochSelection::last;
+}
+
 TrainedStage file_stage(const RunContext& context, const StageModules& modules) {
   TrainedStage stage{{}, context.generator, torch_random_state(), context.training_log, context.diagnostics,
                      context.session_clock.seconds()};

@@ -13,6 +13,10 @@ namespace fscil {
 // stage continues exactly as one that trained it.
 using StageModules = std::vector<std::pair<std::string, torch::nn::Module*>>;
 
+// Whether a run may take or file a shared stage: where the runner keeps them, and only when every
+// epoch kept is the last (a selection keeps epochs by scores the sharing methods need not compute
+// alike, and a kept epoch may span stages).
+bool stages_shareable(const RunContext& context);
 // The stage as `context` stands after it, with copies of `modules`.
 TrainedStage file_stage(const RunContext& context, const StageModules& modules);
 // `stage` written into `modules` and `context`, as if the run had just trained it.

@@ -98,12 +98,6 @@ void PanMethod::train_pan_stages(const SessionData& base, RunContext& context) {
   }
 }
 
-// Shared only where every epoch is the last: a selection keeps epochs by a score that the methods
-// sharing the stages need not compute alike.
-bool PanMethod::stages_shareable(const RunContext& context) const {
-  return context.stages != nullptr && context.selection == EpochSelection::last;
-}
-
 bool PanMethod::take_shared_stages(RunContext& context) {
   if (!stages_shareable(context)) return false;
   std::optional<TrainedStage> stage = context.stages->find(kBaseStages);

@@ -49,7 +49,6 @@ class PanMethod : public ModuleMethod {
 
  private:
   void train_standard(const SessionData& base, std::int64_t classes, const std::string& stage, RunContext& context);
-  bool stages_shareable(const RunContext& context) const;
   // Takes the base stages from RunContext::stages, or keeps them there once trained.
   bool take_shared_stages(RunContext& context);
   void share_stages(RunContext& context);

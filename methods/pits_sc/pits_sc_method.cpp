@@ -103,9 +103,7 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
   means.record(context.diagnostics, "pretraining");
 }
 
-bool PitsScMethod::pretraining_shareable(const RunContext& context) const {
-  return context.stages != nullptr && context.selection == EpochSelection::last;
-}
+bool PitsScMethod::pretraining_shareable(const RunContext& context) const { return stages_shareable(context); }
 
 bool PitsScMethod::take_shared_pretraining(RunContext& context) {
   if (!pretraining_shareable(context)) return false;
