@@ -25,4 +25,17 @@ void continue_from_stage(const TrainedStage& stage, const StageModules& modules,
   context.session_clock = Stopwatch::started_seconds_ago(stage.seconds);
 }
 
+void train_or_take_stage(const std::string& stage, const StageModules& modules, RunContext& context,
+                         const std::function<void()>& train) {
+  const bool shareable = stages_shareable(context);
+  if (shareable) {
+    if (const std::optional<TrainedStage> kept = context.stages->find(stage)) {
+      continue_from_stage(*kept, modules, context);
+      return;
+    }
+  }
+  train();
+  if (shareable) context.stages->store(stage, file_stage(context, modules));
+}
+
 }  // namespace fscil

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,5 +22,9 @@ bool stages_shareable(const RunContext& context);
 TrainedStage file_stage(const RunContext& context, const StageModules& modules);
 // `stage` written into `modules` and `context`, as if the run had just trained it.
 void continue_from_stage(const TrainedStage& stage, const StageModules& modules, RunContext& context);
+// The stage named `stage`: taken from the store when it holds one, else trained by `train` and
+// filed for the others (both only where stages_shareable()).
+void train_or_take_stage(const std::string& stage, const StageModules& modules, RunContext& context,
+                         const std::function<void()>& train);
 
 }  // namespace fscil

@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "methods/common/class_statistics.h"
+
 namespace fscil {
 
 // How many features DSN draws per class at each redraw (exemplar.py L54-L83 at 6b6a9bc8): every
@@ -51,17 +53,5 @@ class ClassGaussiansImpl : public torch::nn::Module {
   std::vector<torch::Tensor> factors_;
 };
 TORCH_MODULE(ClassGaussians);
-
-// Mean and covariance (np.cov, N - 1) of each class's rows, in the order of `classes`
-// (DSN's Inc_train.py L165-L172 for the base classes, L192-L197 for a session's shots).
-std::pair<torch::Tensor, torch::Tensor> class_statistics(const torch::Tensor& embeddings, const torch::Tensor& labels,
-                                                          const std::vector<std::int64_t>& classes);
-
-// np.cov of the rows (N x D), divided by N - 1; zeros for a single row (ours: np.cov gives NaN).
-torch::Tensor sample_covariance(const torch::Tensor& rows);
-// F with F F^T = covariance, from its eigendecomposition in float64 with negative eigenvalues (a
-// few shots give a rank-deficient, barely indefinite estimate) set to zero. The release factors by
-// numpy's SVD: the same distribution for a positive semi-definite matrix.
-torch::Tensor gaussian_factor(const torch::Tensor& covariance);
 
 }  // namespace fscil

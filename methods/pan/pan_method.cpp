@@ -85,7 +85,7 @@ void PanMethod::train_pan_stages(const SessionData& base, RunContext& context) {
                                   "embedding has {}",
                                   classes, encoder_->embedding_size()));
   }
-  if (!take_shared_stages(context)) {
+  train_or_take_stage(kBaseStages, shared_modules(), context, [&] {
     const std::int64_t temporary_base = temporary_base_classes(classes, settings_.temporary_base);
     context.diagnostics["temporary_base_classes"] = static_cast<double>(temporary_base);
     train_standard(first_classes(base, temporary_base), temporary_base, "temporary_standard", context);
@@ -94,20 +94,7 @@ void PanMethod::train_pan_stages(const SessionData& base, RunContext& context) {
     // Plain means of the unnormalised embeddings (data_init, models/stdu/base.py L111-L151).
     classifier_->set_rows(0, class_means(embed_rows(base.features), base.labels, class_range(0, classes)));
     seen_classes_->add(classes);
-    share_stages(context);
-  }
-}
-
-bool PanMethod::take_shared_stages(RunContext& context) {
-  if (!stages_shareable(context)) return false;
-  std::optional<TrainedStage> stage = context.stages->find(kBaseStages);
-  if (!stage) return false;
-  continue_from_stage(*stage, shared_modules(), context);
-  return true;
-}
-
-void PanMethod::share_stages(RunContext& context) {
-  if (stages_shareable(context)) context.stages->store(kBaseStages, file_stage(context, shared_modules()));
+  });
 }
 
 StageModules PanMethod::shared_modules() {

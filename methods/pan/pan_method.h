@@ -49,9 +49,7 @@ class PanMethod : public ModuleMethod {
 
  private:
   void train_standard(const SessionData& base, std::int64_t classes, const std::string& stage, RunContext& context);
-  // Takes the base stages from RunContext::stages, or keeps them there once trained.
-  bool take_shared_stages(RunContext& context);
-  void share_stages(RunContext& context);
+  // What the shared base stages (kBaseStages) hold.
   StageModules shared_modules();
   void train_pseudo_incremental(const SessionData& base, std::int64_t temporary_base, RunContext& context);
 
