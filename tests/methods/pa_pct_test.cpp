@@ -230,6 +230,7 @@ ParameterSet tiny_pa_pct_params() {
 // before PCTS scores 100% and an epoch that changes any prediction less, whatever the kernels: a
 // PCTS whose attention steps scramble the predictions leaves the base as PAN's stages left it.
 TEST(PaPctMethod, UnderASelectionPctsKeepsNoEpochBelowWhatPansStagesEndedAt) {
+  torch::manual_seed(8);  // the features below, whatever tests ran before in this process
   SessionData base = tiny_base();
   torch::Tensor features = torch::randn({150, 2, 4, 4}) * 0.1;  // each class apart on channel 0, so PAN learns it
   features.select(1, 0).add_(base.labels.to(torch::kFloat).view({-1, 1, 1}));
@@ -258,12 +259,22 @@ TEST(PaPctMethod, UnderASelectionPctsKeepsNoEpochBelowWhatPansStagesEndedAt) {
   const MethodState kept_last = trained(wrecking, EpochSelection::last, agreeing, last)->save_state();
 
   EXPECT_DOUBLE_EQ(selecting.diagnostics.at("pcts_selection_score"), 100.0) << "the state before PCTS, on its own labels";
-  EXPECT_EQ(selecting.diagnostics.at("pcts_kept_epoch"), 0);
+  // An epoch that changed a prediction scores less and is never kept; one that changed none ties
+  // with the start and may be (ties go to the later epoch). Under these features and kernels the
+  // wrecking steps may spare an epoch, so the test asks only that one was wrecked.
+  const int kept = static_cast<int>(selecting.diagnostics.at("pcts_kept_epoch"));
+  int wrecked = 0;
   for (const EpochLog& epoch : selecting.training_log) {
-    if (epoch.stage == "pcts") EXPECT_LT(epoch.values.at("selection_score"), 100.0);
+    if (epoch.stage != "pcts") continue;
+    const double score = epoch.values.at("selection_score");
+    wrecked += score < 100.0;
+    if (epoch.epoch == kept) EXPECT_DOUBLE_EQ(score, 100.0) << "PCTS kept epoch " << kept << ", below the start";
   }
-  for (const auto& [key, tensor] : before) {
-    EXPECT_TRUE(torch::equal(selected.at(key), tensor)) << key << " is not the state PAN's stages left";
+  ASSERT_GT(wrecked, 0) << "no epoch changed a prediction: the test checks nothing";
+  if (kept == 0) {
+    for (const auto& [key, tensor] : before) {
+      EXPECT_TRUE(torch::equal(selected.at(key), tensor)) << key << " is not the state PAN's stages left";
+    }
   }
   EXPECT_FALSE(torch::equal(kept_last.at("classifier.weight"), before.at("classifier.weight")))
       << "without a selection the last epoch is kept, wrecked or not";
