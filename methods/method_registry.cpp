@@ -11,6 +11,7 @@
 #include "methods/comp_fscil/comp_fscil_method.h"
 #include "methods/cop_fscil/cop_fscil_method.h"
 #include "methods/dsn/dsn_method.h"
+#include "methods/ldc/ldc_method.h"
 #include "methods/method.h"
 #include "methods/orco/orco_method.h"
 #include "methods/pa_pct/pa_pct_method.h"
@@ -35,6 +36,7 @@ std::vector<MethodEntry>& registry() {
     entries.push_back(comp_fscil_entry());
     entries.push_back(arp_entry());
     entries.push_back(amfo_entry());
+    entries.push_back(ldc_entry());
     return entries;
   }();
   return table;

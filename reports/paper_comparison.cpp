@@ -35,6 +35,7 @@ std::pair<std::string, std::string> paper_row_of(const std::string& method, cons
   if (method == "comp-fscil") return {"results_" + suffix, "Comp-FSCIL"};
   if (method == "arp") return {"results_" + suffix, "ARP"};
   if (method == "amfo") return {"results_" + suffix, "AMFO"};
+  if (method == "ldc") return {"results_" + suffix, "LDC"};
   if (method.rfind("cop-fscil/", 0) == 0) return {"ablation_" + suffix, method};
   return {};
 }

@@ -5,6 +5,7 @@
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/session_order.h"
+#include "methods/common/shared_stage.h"
 
 namespace fscil {
 
@@ -20,7 +21,8 @@ NamedModules PrototypeMethod::build(const RunContext& context) {
 
 void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
   build_modules(context);
-  train_supervised(encoder_, classifier_, base, context.base_classes, schedule_, context, "base");
+  train_or_take_stage(kPretrainingStage, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}}, context,
+                      [&] { train_supervised(encoder_, classifier_, base, context.base_classes, schedule_, context, "base"); });
   add_prototypes(base);
   if (context.validation != nullptr && context.progress != nullptr) {
     context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy_on(*context.validation)));
@@ -59,10 +61,13 @@ MethodEntry prototype_entry() {
                     [](const ParameterSet& params) { return std::make_unique<PrototypeMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
-    return std::vector<StageWork>{pretraining_work(read, sizes), base_embedding_work(sizes), session_work(sizes, 0)};
+    StageWork pretraining = pretraining_work(read, sizes);
+    pretraining.stage = PrototypeMethod::kPretrainingStage;  // plan counts it once where ldc runs too
+    return std::vector<StageWork>{pretraining, base_embedding_work(sizes), session_work(sizes, 0)};
   };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // sessions only add prototypes
+  entry.shared_stages[PrototypeMethod::kPretrainingStage] = {};  // ldc trains it alike
   return entry;
 }
 

@@ -15,6 +15,10 @@ namespace fscil {
 // is its modules (ModuleMethod): the encoder, the classifier's rows and the count of seen classes.
 class PrototypeMethod : public ModuleMethod {
  public:
+  // Its encoder and cosine classifier as train_supervised() leaves them: ldc's base starts alike
+  // (MethodEntry::shared_stages).
+  static constexpr const char* kPretrainingStage = "cosine pretraining";
+
   explicit PrototypeMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
   void learn_session(const SessionData& support, RunContext& context) override;

@@ -131,7 +131,7 @@ TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodPar
   const CommandResult first = run_cli(common + cold.path().string());
   ASSERT_EQ(first.exit_code, 0) << first.output;
   EXPECT_EQ(first.output.find(kHit), std::string::npos);
-  ASSERT_EQ(files_in(stages), 1u);
+  ASSERT_EQ(files_in(stages), 2u);  // its base and its pretraining (ldc's too)
   const std::string trained = scores_in(result(cold));
   EXPECT_EQ(std::count(trained.begin(), trained.end(), ':'), 3 * 7);  // 3 sessions x 7 scores
 
@@ -150,7 +150,7 @@ TEST(Cli, ABaseFromTheStageCacheGivesTheScoresOfARunThatTrainedItAndAnyMethodPar
   const CommandResult changed = run_cli(common + other_lr.path().string() + " --set pretrain_lr=0.05");
   ASSERT_EQ(changed.exit_code, 0) << changed.output;
   EXPECT_EQ(changed.output.find(kHit), std::string::npos) << changed.output;
-  EXPECT_EQ(files_in(stages), 2u);
+  EXPECT_EQ(files_in(stages), 4u);
   EXPECT_NE(scores_in(result(other_lr)), trained);
 
   const CommandResult off = run_cli(common + uncached.path().string() + " --no-stage-cache");
@@ -224,7 +224,7 @@ TEST(Cli, ADivergedTrainingFailsTheRunAndCachesNothingOfWhatDiverged) {
   // prototype finished before pits-sc began: its result and its base stay; pits-sc's do not exist.
   EXPECT_TRUE(std::filesystem::exists(out.path() / "results" / "prototype__simtex-mini__seed1.json"));
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "pits-sc__simtex-mini__seed1.json"));
-  EXPECT_EQ(files_in(cache.path() / "stages"), 2u);  // prototype's base, pits-sc's pretraining
+  EXPECT_EQ(files_in(cache.path() / "stages"), 3u);  // prototype's base and pretraining, pits-sc's pretraining
 
   const CommandResult too_hot = run_cli("--methods prototype" + common + " --set temperature=1e30 --out " +
                                         hot.path().string());
@@ -234,7 +234,7 @@ TEST(Cli, ADivergedTrainingFailsTheRunAndCachesNothingOfWhatDiverged) {
                                 hot.path().string()),
                         "parameter temperature='1e308': expected a number of at most 3.40282e+38 in magnitude");
   EXPECT_FALSE(std::filesystem::exists(hot.path() / "results" / "prototype__simtex-mini__seed1.json"));
-  EXPECT_EQ(files_in(cache.path() / "stages"), 2u);
+  EXPECT_EQ(files_in(cache.path() / "stages"), 3u);
 }
 
 TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhere) {

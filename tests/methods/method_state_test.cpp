@@ -15,7 +15,8 @@ ParameterSet tiny_params() {
         {"epochs_new", "5"}, {"orco_base_epochs", "1"}, {"orco_session_epochs", "2"}, {"orco_views", "2"},
         {"orco_target_steps", "20"}, {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"},
         {"orco_session_stop", "last"}, {"pan_pit_episodes", "2"}, {"dsn_session_epochs", "3"}, {"comp_session_steps", "5"},
-        {"amfo_session_epochs", "3"}, {"pa_pct_epochs", "1"}, {"pa_pct_episodes", "2"}}) {
+        {"amfo_session_epochs", "3"}, {"pa_pct_epochs", "1"}, {"pa_pct_episodes", "2"}, {"ldc_calibration_epochs", "3"},
+        {"ldc_session_epochs", "3"}}) {
     params.set(key, value);
   }
   return params;
@@ -51,7 +52,7 @@ TEST_P(MethodState, RestoredAfterASessionContinuesExactly) {
 
 INSTANTIATE_TEST_SUITE_P(EveryMethod, MethodState,
                          ::testing::Values("prototype", "pits-sc", "cop-fscil/cpi", "cop-fscil", "orco", "adbs", "pan", "pa-pct", "dsn",
-                                           "comp-fscil", "arp", "amfo"),
+                                           "comp-fscil", "arp", "amfo", "ldc"),
                          [](const auto& info) {
                            std::string name = info.param;
                            for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

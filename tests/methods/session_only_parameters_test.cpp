@@ -105,7 +105,9 @@ INSTANTIATE_TEST_SUITE_P(
              {{"amfo_session_fusion_weight", "5"}, {"amfo_session_margin_weight", "1"}, {"amfo_session_binary_weight", "0.2"},
               {"amfo_gamma", "0.5"}, {"amfo_r", "0.1"}, {"amfo_session_epochs", "2"}, {"amfo_session_lr", "0.05"},
               {"amfo_session_batch", "64"}, {"amfo_refresh_every", "1"}, {"amfo_new_samples", "3"},
-              {"amfo_old_samples", "3"}}}),
+              {"amfo_old_samples", "3"}}},
+        SessionOnlyCase{"ldc", {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"ldc_calibration_epochs", "2"}},
+             {{"ldc_session_epochs", "2"}, {"ldc_session_lr", "0.05"}, {"ldc_session_batch", "7"}}}),
     [](const ::testing::TestParamInfo<SessionOnlyCase>& info) { return test_name_of(info.param.method); });
 
 // Every method whose entry says base_ignores_selection ends its base in the same state under every

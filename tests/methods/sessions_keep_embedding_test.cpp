@@ -19,7 +19,8 @@ ParameterSet short_training() {
            {"pretrain_epochs", "1"}, {"pit_episodes", "2"}, {"pit_epochs", "1"}, {"batch_size", "32"},
            {"orco_base_epochs", "2"}, {"orco_views", "2"}, {"orco_target_steps", "50"},
            {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}, {"orco_session_epochs", "3"},
-           {"orco_session_stop", "last"}, {"pan_pit_episodes", "2"}, {"dsn_session_epochs", "3"}, {"comp_session_steps", "5"}}) {
+           {"orco_session_stop", "last"}, {"pan_pit_episodes", "2"}, {"dsn_session_epochs", "3"}, {"comp_session_steps", "5"},
+           {"ldc_calibration_epochs", "2"}, {"ldc_session_epochs", "3"}}) {
     params.set(key, value);
   }
   return params;
@@ -41,7 +42,8 @@ TEST(SessionsKeepEmbedding, HoldsForEveryMethodThatDeclaresItAndOnlyForThose) {
     if (method_entry(name).sessions_keep_embedding) keeping.insert(name);
   }
   EXPECT_EQ(keeping, (std::set<std::string>{"prototype", "pits-sc", "cop-fscil", "cop-fscil/cpi", "cop-fscil/cpi+pspc",
-                                             "cop-fscil/cpi+pcqa", "adbs", "pan", "pa-pct", "dsn", "comp-fscil", "arp", "amfo"}));
+                                             "cop-fscil/cpi+pcqa", "adbs", "pan", "pa-pct", "dsn", "comp-fscil", "arp", "amfo",
+                                             "ldc"}));
 }
 
 }  // namespace

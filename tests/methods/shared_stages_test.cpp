@@ -10,6 +10,7 @@
 #include "methods/method_registry.h"
 #include "methods/pan/pan_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
+#include "methods/prototype/prototype_method.h"
 #include "core/parameter_set.h"
 #include "tests/methods/tiny_training.h"
 
@@ -123,41 +124,55 @@ TEST(SharedPretraining, NoStageIsSharedWhereThePretrainingsDiffer) {
   EXPECT_TRUE(selected.stages.empty());
 }
 
-// PAN's three base stages are pa-pct's to the bit: pa-pct continuing from pan's ends as a pa-pct that
-// trained them, and with every pa_pct_* value its entry declares as read after them changed, it
-// files the stages pan does.
-TEST(SharedPanStages, PaPctContinuingFromPansStagesEndsAsAPaPctThatTrainedThem) {
-  const std::string stage = PanMethod::kBaseStages;
-  const Values short_pan = {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"},
-                            {"pa_pct_epochs", "1"}, {"pa_pct_episodes", "2"}};
+// `filer`'s `stage` is `taker`'s to the bit: `taker` continuing from it ends as a `taker` that
+// trained it, and with every value its entry declares as read after the stage changed (`changed`:
+// each such value, another than `base`'s), it files the stage `filer` does.
+void expect_stage_serves(const std::string& stage, const std::string& filer, const std::string& taker,
+                         const Values& base, const Values& changed) {
   KeptStages stages;
-  train("pan", short_pan, &stages);
+  train(filer, base, &stages);
   ASSERT_EQ(stages.stages.count(stage), 1u);
-  const Trained cold = train("pa-pct", short_pan, nullptr, true);
-  const Trained shared = train("pa-pct", short_pan, &stages, true);
-  EXPECT_EQ(stages.finds, 2);  // pan's run asked too, and found none
-  expect_same_state(cold.state, shared.state, "pa-pct after pan's stages and a session");
+  const Trained cold = train(taker, base, nullptr, true);
+  const Trained shared = train(taker, base, &stages, true);
+  EXPECT_EQ(stages.finds, 2);  // the filer's run asked too, and found none
+  expect_same_state(cold.state, shared.state, taker + " after " + filer + "'s stage and a session");
   EXPECT_EQ(shared.generator, cold.generator);
   EXPECT_TRUE(torch::equal(shared.torch_state, cold.torch_state));
   EXPECT_TRUE(torch::equal(shared.logits, cold.logits));
   EXPECT_EQ(shared.diagnostics, cold.diagnostics);
   EXPECT_EQ(logged_values(shared.training_log), logged_values(cold.training_log));
 
-  const MethodEntry& entry = method_entry("pa-pct");
-  Values changed = short_pan;
+  Values all_changed = base;
   std::set<std::string> tested;
-  for (const auto& [key, value] : Values{{"pa_pct_epochs", "2"}, {"pa_pct_episodes", "3"}, {"pa_pct_alpha", "2"},
-                                         {"pa_pct_encoder_lr", "0.05"}, {"pa_pct_attention_lr", "0.001"}}) {
-    changed[key] = value;
+  for (const auto& [key, value] : changed) {
+    all_changed[key] = value;
     tested.insert(key);
   }
-  ASSERT_EQ(entry.shared_stages.at(stage), tested) << "each declared parameter needs a changed value here";
+  ASSERT_EQ(method_entry(taker).shared_stages.at(stage), tested) << "each declared parameter needs a changed value here";
   KeptStages own;
-  train("pa-pct", changed, &own);
-  expect_same_state(stages.stages.at(stage).state, own.stages.at(stage).state, "pa-pct's own PAN stages");
-  EXPECT_EQ(own.stages.at(stage).generator, stages.stages.at(stage).generator);
-  EXPECT_TRUE(torch::equal(own.stages.at(stage).torch_random_state, stages.stages.at(stage).torch_random_state));
-  EXPECT_EQ(logged_values(own.stages.at(stage).training_log), logged_values(stages.stages.at(stage).training_log));
+  train(taker, all_changed, &own);
+  const TrainedStage &filed = stages.stages.at(stage), &owned = own.stages.at(stage);
+  expect_same_state(filed.state, owned.state, taker + "'s own stage");
+  EXPECT_EQ(owned.generator, filed.generator);
+  EXPECT_TRUE(torch::equal(owned.torch_random_state, filed.torch_random_state));
+  EXPECT_EQ(logged_values(owned.training_log), logged_values(filed.training_log));
+}
+
+TEST(SharedPanStages, PaPctContinuingFromPansStagesEndsAsAPaPctThatTrainedThem) {
+  expect_stage_serves(PanMethod::kBaseStages, "pan", "pa-pct",
+                      {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"pan_pit_episodes", "2"},
+                       {"pa_pct_epochs", "1"}, {"pa_pct_episodes", "2"}},
+                      {{"pa_pct_epochs", "2"}, {"pa_pct_episodes", "3"}, {"pa_pct_alpha", "2"},
+                       {"pa_pct_encoder_lr", "0.05"}, {"pa_pct_attention_lr", "0.001"}});
+}
+
+TEST(SharedCosinePretraining, LdcContinuingFromPrototypesPretrainingEndsAsAnLdcThatTrainedIt) {
+  expect_stage_serves(PrototypeMethod::kPretrainingStage, "prototype", "ldc",
+                      {{"pretrain_epochs", "1"}, {"batch_size", "32"}, {"ldc_calibration_epochs", "2"},
+                       {"ldc_session_epochs", "2"}},
+                      {{"ldc_calibration_epochs", "3"}, {"ldc_calibration_lr", "0.02"}, {"ldc_calibration_rounds", "2"},
+                       {"ldc_calibration_samples", "20"}, {"ldc_unit_rms", "2"}, {"ldc_replay_samples", "4"},
+                       {"ldc_session_epochs", "3"}, {"ldc_session_lr", "0.05"}, {"ldc_session_batch", "7"}});
 }
 
 // The pretraining a method files with the values its entry declares as read after it changed.

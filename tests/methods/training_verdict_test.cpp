@@ -26,7 +26,7 @@ ParameterSet verdict_training() {
            {"pretrain_epochs", "2"}, {"pit_episodes", "2"}, {"pit_epochs", "2"}, {"batch_size", "32"},
            {"orco_base_epochs", "2"}, {"orco_views", "2"}, {"orco_target_steps", "50"},
            {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}, {"pan_pit_episodes", "2"},
-           {"pan_pit_epochs", "1"}, {"pa_pct_epochs", "2"}, {"pa_pct_episodes", "2"}}) {
+           {"pan_pit_epochs", "1"}, {"pa_pct_epochs", "2"}, {"pa_pct_episodes", "2"}, {"ldc_calibration_epochs", "2"}}) {
     params.set(key, value);
   }
   return params;
@@ -67,7 +67,7 @@ TEST(TrainingVerdict, EveryMethodScoresBaseValidationEachEpochWithoutChangingWha
   EXPECT_EQ(scored_stages.at("orco"), (std::set<std::string>{"pretrain", "projector"}));
   EXPECT_EQ(scored_stages.at("pan"), (std::set<std::string>{"temporary_standard", "standard"}));
   EXPECT_EQ(scored_stages.at("pa-pct"), (std::set<std::string>{"temporary_standard", "standard", "pcts"}));
-  for (const std::string name : {"adbs", "dsn", "comp-fscil", "arp", "amfo"}) {
+  for (const std::string name : {"adbs", "dsn", "comp-fscil", "arp", "amfo", "ldc"}) {
     EXPECT_EQ(scored_stages.at(name), (std::set<std::string>{"base"})) << name;
   }
 }
