@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "methods/common/class_statistics.h"
 
 namespace fscil {
 

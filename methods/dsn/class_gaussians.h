@@ -5,8 +5,6 @@
 #include <utility>
 #include <vector>
 
-#include "methods/common/class_statistics.h"
-
 namespace fscil {
 
 // How many features DSN draws per class at each redraw (exemplar.py L54-L83 at 6b6a9bc8): every

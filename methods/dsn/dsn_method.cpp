@@ -5,6 +5,7 @@
 #include "methods/common/base_validation.h"
 #include "methods/common/best_epoch.h"
 #include "methods/common/class_members.h"
+#include "methods/common/class_statistics.h"
 #include "methods/common/embedding.h"
 #include "methods/common/session_order.h"
 #include "methods/common/shuffled_batches.h"

@@ -37,13 +37,11 @@ void DistributionMemoryImpl::forget(const std::vector<std::int64_t>& classes) {
 }
 
 torch::Tensor DistributionMemoryImpl::kept_features(std::int64_t seen) const {
-  const torch::Tensor present = ~removed_.slice(0, 0, seen);
-  return kept_.slice(0, 0, seen).index({present}).reshape({-1, kept_.size(2)});
+  return kept_.slice(0, 0, seen).index({present(seen)}).reshape({-1, kept_.size(2)});
 }
 
 torch::Tensor DistributionMemoryImpl::kept_labels(std::int64_t seen) const {
-  const torch::Tensor classes = torch::arange(seen).index({~removed_.slice(0, 0, seen)});
-  return classes.repeat_interleave(kept_.size(1));
+  return torch::arange(seen).index({present(seen)}).repeat_interleave(kept_.size(1));
 }
 
 }  // namespace fscil

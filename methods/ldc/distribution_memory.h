@@ -37,6 +37,8 @@ class DistributionMemoryImpl : public torch::nn::Module {
   // The kept features of classes [0, seen) not removed, in class order, and their labels.
   torch::Tensor kept_features(std::int64_t seen) const;
   torch::Tensor kept_labels(std::int64_t seen) const;
+  // Whether each of classes [0, seen) is still present (not removed).
+  torch::Tensor present(std::int64_t seen) const { return ~removed_.slice(0, 0, seen); }
   const torch::Tensor& covariance() const { return covariance_; }
 
  private:

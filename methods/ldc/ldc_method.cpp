@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "methods/common/base_validation.h"
 #include "methods/common/class_members.h"
@@ -125,7 +126,7 @@ void LdcMethod::learn_session(const SessionData& support, RunContext& context) {
 
 void LdcMethod::finetune_rows(const torch::Tensor& shots, const torch::Tensor& shot_labels, std::int64_t seen,
                               RunContext& context) {
-  // The shots, then every seen class's kept draws after the PCU's updates, in class order (L214-L225).
+  // The shots, then every seen class's kept draws after the PCU's updates, in class order (L214-L226).
   torch::Tensor calibrated;
   {
     torch::NoGradGuard no_grad;
@@ -133,19 +134,24 @@ void LdcMethod::finetune_rows(const torch::Tensor& shots, const torch::Tensor& s
   }
   const torch::Tensor features = torch::cat({shots, calibrated});
   const torch::Tensor labels = torch::cat({shot_labels, memory_->kept_labels(seen)});
-  // Every seen row trains (fc_cls, L207-L212): SGD, momentum 0.9, dampening 0.9, no weight decay,
-  // over unshuffled batches with the remainder dropped (L228-L233).
+  // Every seen row trains (fc_cls, optimiser L210-L212): SGD, momentum 0.9, dampening 0.9, no weight
+  // decay, over unshuffled batches (L230). The release drops a last partial batch, which its CUB
+  // sizes (550 + 50 s samples in batches of 50) never leave; ours keep it (ours: a 5-way protocol's
+  // remainder is the newest classes' draws). A removed class's row takes no part (ours).
   torch::Tensor rows = classifier_->weight().slice(0, 0, seen).detach().clone().requires_grad_(true);
   torch::optim::SGD optimizer({rows}, torch::optim::SGDOptions(settings_.session_lr).momentum(0.9).dampening(0.9));
-  const std::int64_t batch = settings_.session_batch, batches = features.size(0) / batch;
+  const std::int64_t batch = settings_.session_batch, samples = features.size(0);
+  const std::int64_t batches = (samples + batch - 1) / batch;
   const torch::Tensor inputs = F::normalize(features, F::NormalizeFuncOptions().dim(1));
+  const torch::Tensor removed = ~memory_->present(seen);
   for (int epoch = 0; epoch < settings_.session_epochs; ++epoch) {
     double total = 0;
     for (std::int64_t i = 0; i < batches; ++i) {
-      const torch::Tensor logits =
-          settings_.temperature * inputs.slice(0, i * batch, (i + 1) * batch)
-                                      .matmul(F::normalize(rows, F::NormalizeFuncOptions().dim(1)).t());
-      const torch::Tensor loss = F::cross_entropy(logits, labels.slice(0, i * batch, (i + 1) * batch));
+      const std::int64_t end = std::min(samples, (i + 1) * batch);
+      const torch::Tensor logits = (settings_.temperature * inputs.slice(0, i * batch, end)
+                                                                .matmul(F::normalize(rows, F::NormalizeFuncOptions().dim(1)).t()))
+                                       .masked_fill(removed, -std::numeric_limits<float>::infinity());
+      const torch::Tensor loss = F::cross_entropy(logits, labels.slice(0, i * batch, end));
       optimizer.zero_grad();
       loss.backward();
       optimizer.step();
@@ -157,7 +163,8 @@ void LdcMethod::finetune_rows(const torch::Tensor& shots, const torch::Tensor& s
   classifier_->set_rows(0, rows.detach());
 }
 
-// Removed classes' draws are replayed no more (ours); the runner drops their rows from decisions.
+// Removed classes' draws are replayed no more and their rows take no part in later fine-tuning
+// (ours); the runner drops the rows from decisions.
 void LdcMethod::forget_classes(const std::vector<std::int64_t>& classes, RunContext& /*context*/) {
   memory_->forget(classes);
 }
@@ -197,7 +204,7 @@ MethodEntry ldc_entry() {
     double session_steps = 0;
     for (int session = 1; session < sizes.sessions; ++session) {
       const double samples = sizes.way * sizes.shot + ldc.replay_samples * (sizes.classes_before(session) + sizes.way);
-      session_steps += ldc.session_epochs * std::floor(samples / ldc.session_batch);
+      session_steps += ldc.session_epochs * std::ceil(samples / ldc.session_batch);
     }
     return std::vector<StageWork>{pretraining, base_embedding_work(sizes), calibration,
                                   session_work(sizes, session_steps / std::max(sizes.sessions - 1, 1))};

@@ -40,7 +40,7 @@ class LdcMethod : public ModuleMethod {
  private:
   // dis_match over `epochs` (helper.py L68-L83): per base class one step on its drawn features.
   void train_calibration(const torch::Tensor& drawn, const std::vector<torch::Tensor>& real, RunContext& context);
-  // update_fc_ft (Network.py L205-L233): the rows of classes [0, seen) on the shots and the kept draws.
+  // update_fc_ft (Network.py): the rows of classes [0, seen) on the shots and the kept draws.
   void finetune_rows(const torch::Tensor& shots, const torch::Tensor& shot_labels, std::int64_t seen,
                      RunContext& context);
 

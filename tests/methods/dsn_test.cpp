@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/common/class_statistics.h"
 #include "methods/common/embedding.h"
 #include "methods/dsn/class_gaussians.h"
 #include "methods/dsn/dsn_head.h"

@@ -5,7 +5,6 @@
 
 #include "core/parameter_set.h"
 #include "methods/common/class_statistics.h"
-#include "methods/common/embedding.h"
 #include "methods/ldc/calibration_unit.h"
 #include "methods/ldc/distribution_memory.h"
 #include "methods/ldc/ldc_method.h"
@@ -127,6 +126,21 @@ TEST(LdcMethod, ASessionAddsTheShotMeansFoldsTheirCovariancesAndFineTunesEveryRo
       EXPECT_TRUE(torch::equal(after.at(name), tensor)) << name;
     }
   }
+}
+
+// A removed class's draws leave the fine-tuning data and its row takes no part: it does not move.
+TEST(LdcMethod, ARemovedClassIsNeitherReplayedNorTuned) {
+  torch::manual_seed(9);
+  LdcMethod method(tiny_ldc_params(5));
+  RunContext context = tiny_context(9);
+  method.train_base(tiny_base(), context);
+  method.forget_classes({0}, context);
+  const MethodState before = method.save_state();
+  method.learn_session(tiny_support(6), context);
+  const MethodState after = method.save_state();
+  EXPECT_TRUE(torch::equal(after.at("classifier.weight")[0], before.at("classifier.weight")[0]));
+  EXPECT_FALSE(torch::equal(after.at("classifier.weight")[1], before.at("classifier.weight")[1]));
+  EXPECT_TRUE(torch::equal(after.at("memory.removed").slice(0, 0, 2), torch::tensor({true, false})));
 }
 
 }  // namespace

@@ -228,7 +228,8 @@ ParameterSet tiny_pa_pct_params() {
 // Under a selection, PCTS keeps an epoch only if it scores at least what PAN's stages ended at (the
 // release's rule, on base validation). Scored on labels that PAN's base itself predicts, the state
 // before PCTS scores 100% and an epoch that changes any prediction less, whatever the kernels: a
-// PCTS whose attention steps scramble the predictions leaves the base as PAN's stages left it.
+// PCTS whose attention steps scramble the predictions keeps no scrambled epoch, and where it keeps
+// none at all, the base is as PAN's stages left it.
 TEST(PaPctMethod, UnderASelectionPctsKeepsNoEpochBelowWhatPansStagesEndedAt) {
   torch::manual_seed(8);  // the features below, whatever tests ran before in this process
   SessionData base = tiny_base();

@@ -10,6 +10,7 @@
 #include "methods/method_registry.h"
 #include "methods/pan/pan_method.h"
 #include "methods/pits_sc/pits_sc_method.h"
+#include "methods/prototype/prototype_method.h"
 #include "tests/temporary_directory.h"
 #include "tools/fscil-bench/cells/time_estimate.h"
 
@@ -129,6 +130,14 @@ TEST(MethodWork, OtherMethodsCountTheirOwnStages) {
   // AMFO: 10 epochs a session, each one batch: 10 draws of the 10 classes before it, 5 of each
   // new class and the 25 shots (150); then 10 x 15 + 50 (200); and 0.48 steps per earlier class.
   EXPECT_DOUBLE_EQ(totals("amfo").head_steps, 10 * (1 + 0.48 * 10) + 10 * (1 + 0.48 * 15));
+  // ldc shares prototype's pretraining; its unit takes 20 smoke epochs of one step per base class,
+  // 1.4 head steps each; its sessions 30 epochs over 25 shots and 5 draws of every seen class, in
+  // batches of 50 with the last partial one kept: 100 samples (2 batches), then 125 (3).
+  for (const std::string method : {"prototype", "ldc"}) {
+    EXPECT_EQ(method_entry(method).work(smoke(method), three_sessions()).front().stage,
+              PrototypeMethod::kPretrainingStage);
+  }
+  EXPECT_DOUBLE_EQ(totals("ldc").head_steps, 1.4 * 20 * 10 + 30 * (2 + 3));
   for (const auto& entry : method_registry()) EXPECT_TRUE(entry.work) << entry.name << " declares no work";
 }
 
