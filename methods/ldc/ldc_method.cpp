@@ -10,7 +10,6 @@
 #include "methods/common/embedding.h"
 #include "methods/common/module_cost.h"
 #include "methods/common/session_order.h"
-#include "methods/common/shared_stage.h"
 #include "methods/common/supervised_training.h"
 #include "methods/common/torch_random_state.h"
 #include "methods/prototype/prototype_method.h"
@@ -55,10 +54,7 @@ void LdcMethod::train_base(const SessionData& base, RunContext& context) {
   const std::int64_t classes = context.base_classes;
   // The release trains its base as CEC's cosine classifier does (helper.py base_train, mode ft_cos):
   // prototype's pretraining, which the two share.
-  train_or_take_stage(PrototypeMethod::kPretrainingStage, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}},
-                      context, [&] {
-                        train_supervised(encoder_, classifier_, base, classes, settings_.base, context, "base");
-                      });
+  PrototypeMethod::pretrain(encoder_, classifier_, base, settings_.base, context);
   // replace_base_fc (helper.py L11-L49): the base rows become the class means (L43), and the base
   // classes' covariances, averaged, the one covariance every class shares (L35, L45).
   const torch::Tensor raw = embed_in_batches(encoder_, base.features);
@@ -197,17 +193,15 @@ MethodEntry ldc_entry() {
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const LdcSettings ldc = LdcSettings::from(read);
-    StageWork pretraining = pretraining_work(read, sizes);
-    pretraining.stage = PrototypeMethod::kPretrainingStage;
     // One PCU step per base class and epoch, each kPcuStepsInHeadSteps head steps' worth.
     StageWork calibration{"calibration", 0, 0, kPcuStepsInHeadSteps * ldc.calibration_epochs * sizes.base_classes};
-    double session_steps = 0;
+    StageWork sessions = session_work(sizes, 0);
     for (int session = 1; session < sizes.sessions; ++session) {
       const double samples = sizes.way * sizes.shot + ldc.replay_samples * (sizes.classes_before(session) + sizes.way);
-      session_steps += ldc.session_epochs * std::ceil(samples / ldc.session_batch);
+      sessions.head_steps += ldc.session_epochs * std::ceil(samples / ldc.session_batch);
     }
-    return std::vector<StageWork>{pretraining, base_embedding_work(sizes), calibration,
-                                  session_work(sizes, session_steps / std::max(sizes.sessions - 1, 1))};
+    return std::vector<StageWork>{PrototypeMethod::pretraining_stage_work(read, sizes), base_embedding_work(sizes),
+                                  calibration, sessions};
   };
   entry.profile_defaults =
       pretraining_profiles({{"smoke", {{"ldc_calibration_epochs", "20"}, {"ldc_session_epochs", "30"}}}});

@@ -21,12 +21,23 @@ NamedModules PrototypeMethod::build(const RunContext& context) {
 
 void PrototypeMethod::train_base(const SessionData& base, RunContext& context) {
   build_modules(context);
-  train_or_take_stage(kPretrainingStage, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}}, context,
-                      [&] { train_supervised(encoder_, classifier_, base, context.base_classes, schedule_, context, "base"); });
+  pretrain(encoder_, classifier_, base, schedule_, context);
   add_prototypes(base);
   if (context.validation != nullptr && context.progress != nullptr) {
     context.progress->note(fmt::format("base validation accuracy {:.2f}%", accuracy_on(*context.validation)));
   }
+}
+
+void PrototypeMethod::pretrain(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& base,
+                               const SupervisedSchedule& schedule, RunContext& context) {
+  train_or_take_stage(kPretrainingStage, {{"encoder.", encoder.get()}, {"classifier.", classifier.get()}}, context,
+                      [&] { train_supervised(encoder, classifier, base, context.base_classes, schedule, context, "base"); });
+}
+
+StageWork PrototypeMethod::pretraining_stage_work(const ParameterSet& read, const RunSizes& sizes) {
+  StageWork work = pretraining_work(read, sizes);
+  work.stage = kPretrainingStage;  // plan counts it once where ldc runs too
+  return work;
 }
 
 void PrototypeMethod::learn_session(const SessionData& support, RunContext& context) { add_prototypes(support); }
@@ -61,9 +72,8 @@ MethodEntry prototype_entry() {
                     [](const ParameterSet& params) { return std::make_unique<PrototypeMethod>(params); }};
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
-    StageWork pretraining = pretraining_work(read, sizes);
-    pretraining.stage = PrototypeMethod::kPretrainingStage;  // plan counts it once where ldc runs too
-    return std::vector<StageWork>{pretraining, base_embedding_work(sizes), session_work(sizes, 0)};
+    return std::vector<StageWork>{PrototypeMethod::pretraining_stage_work(read, sizes), base_embedding_work(sizes),
+                                  session_work(sizes, 0)};
   };
   entry.profile_defaults = pretraining_profiles();
   entry.sessions_keep_embedding = true;  // sessions only add prototypes

@@ -18,6 +18,11 @@ class PrototypeMethod : public ModuleMethod {
   // Its encoder and cosine classifier as train_supervised() leaves them: ldc's base starts alike
   // (MethodEntry::shared_stages).
   static constexpr const char* kPretrainingStage = "cosine pretraining";
+  // That stage, taken from RunContext::stages or trained and filed there; and its work for plan.
+  // Both methods that share it go through these, so that it is one stage.
+  static void pretrain(ResNet18Encoder& encoder, CosineClassifier& classifier, const SessionData& base,
+                       const SupervisedSchedule& schedule, RunContext& context);
+  static StageWork pretraining_stage_work(const ParameterSet& read, const RunSizes& sizes);
 
   explicit PrototypeMethod(const ParameterSet& params);
   void train_base(const SessionData& base, RunContext& context) override;
