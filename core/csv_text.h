@@ -13,6 +13,9 @@ std::vector<std::string> csv_lines(const std::string& text);
 // with a quote runs to its closing quote, "" inside is one quote; a quote elsewhere is a
 // character); blanks around each field are dropped. A trailing comma gives an empty last field.
 std::vector<std::string> csv_fields(const std::string& line);
+// `text` as one field that csv_fields reads back (blanks at its ends aside, which the reader drops):
+// in double quotes, a quote doubled, when it holds a comma or a quote; as it is otherwise.
+std::string csv_field(const std::string& text);
 // `text` without the blanks (spaces, tabs, line ends) around it.
 std::string trimmed(const std::string& text);
 

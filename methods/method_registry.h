@@ -78,6 +78,9 @@ struct MethodEntry {
   // Methods that differ only after the base session name the same key: the runner trains that base
   // once per seed and hands it on (Method::continue_from_base). Empty: the method shares none.
   std::string shared_base_key = {};
+  // Empty for a method run as its release runs it. Otherwise what every table says of its numbers
+  // beside them (a footnote): e.g. that no runnable release exists and the method is our reading.
+  std::string table_note = {};
 };
 
 // The built-in methods, then those added by register_method(), in that order ("all" runs them so).

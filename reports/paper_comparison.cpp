@@ -91,7 +91,8 @@ std::vector<PaperComparisonRow> compare_with_paper(const SummaryTable& ours, con
       return p.table == table && p.method == name;
     });
     if (published == paper.end()) continue;
-    PaperComparisonRow compared{row.dataset, row.method, dataset->paper, table, name, dataset->simulated, {}, {}, 0};
+    PaperComparisonRow compared{row.dataset, row.method, dataset->paper, table, name, dataset->simulated, {}, {}, 0,
+                                row.method_note};
     compared.sessions = std::min(row.session_accuracy.size(), published->session_accuracy.size());
     std::vector<double> means;
     for (const auto& statistic : row.session_accuracy) means.push_back(statistic.mean);
@@ -132,9 +133,11 @@ std::string render_paper_comparison_markdown(const std::vector<PaperComparisonRo
   if (rows.empty()) return "No run matches a dataset and method the paper reports.\n";
   std::string out;
   for (const auto& row : rows) {
-    out += fmt::format("### {} on {} beside the paper ({} on {}, table {}){}\n\n| | ", row.method, label_of(row),
+    out += fmt::format("### {} on {} beside the paper ({} on {}, table {}){}\n\n", row.method, label_of(row),
                        row.paper_method, row.paper_dataset, row.paper_table,
                        row.simulated ? ": our data are simulated, the paper's real" : "");
+    if (!row.method_note.empty()) out += fmt::format("Ours is {}.\n\n", row.method_note);
+    out += "| | ";
     for (std::size_t s = 0; s < row.sessions; ++s) out += fmt::format("{} | ", s);
     out += "PD | AA | ADR |\n|---|";
     for (std::size_t k = 0; k < row.ours.size(); ++k) out += "---:|";

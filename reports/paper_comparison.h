@@ -19,6 +19,7 @@ struct PaperComparisonRow {
   bool simulated = false;        // our numbers come from the simulator, not the real data
   std::vector<double> ours, paper;  // acc_0.., PD, AA, ADR (sessions both have)
   std::size_t sessions = 0;
+  std::string method_note;          // SummaryRow::method_note: e.g. ours is our reading of the method
 };
 
 // The paper's name of the dataset our `dataset` is or imitates ("" when the paper has none), and

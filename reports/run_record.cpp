@@ -151,6 +151,7 @@ std::string to_json_text(const RunRecord& record) {
                      {"seconds_per_sample", record.inference.seconds_per_sample},
                      {"batch", record.inference.batch}}}};
   if (!record.grid.empty()) document["grid_keys"] = grid_keys_of(record.grid);
+  if (!record.method_note.empty()) document["method_note"] = record.method_note;
   return document.dump(2) + "\n";
 }
 
@@ -225,7 +226,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
   top.require_known_keys({"schema", "method", "dataset", "profile", "seed", "threads", "evaluated_on", "selection",
                           "grid", "grid_keys", "parameters", "protocol_parameters", "machine", "version", "git_commit",
                           "dataset_key", "sessions", "total_seconds", "peak_resident_bytes", "resident_at_start_bytes", "replay",
-                          "inference"});
+                          "inference", "method_note"});
   if (top.whole<int>("schema") != kSchemaVersion) top.fail("schema", fmt::format("{}", kSchemaVersion));
   try {
     RunRecord record;
@@ -278,6 +279,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.version = top.text("version", "");
     record.git_commit = top.text("git_commit");
     record.dataset_key = top.text("dataset_key");
+    record.method_note = top.text("method_note", "");
     record.total_seconds = top.number("total_seconds", ValidRange::at_least(0));
     record.peak_resident_bytes = top.whole<std::int64_t>("peak_resident_bytes", 0);
     if (top.has("resident_at_start_bytes")) {

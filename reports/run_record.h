@@ -75,6 +75,9 @@ struct RunRecord {
   // Real old samples the method stores after its last session (OrCo's trade-off); 0 for none.
   std::int64_t replay_samples = 0;
   std::int64_t replay_bytes = 0;
+  // What every table says of the method's numbers (MethodEntry::table_note); empty for a method run
+  // as its release runs it, and in files written before it was recorded.
+  std::string method_note;
 
   // The file this record was read from (not written to it); empty for a run in progress.
   std::string source;

@@ -77,6 +77,14 @@ std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& 
   return notes;
 }
 
+std::vector<std::string> method_notes(const std::vector<const SummaryRow*>& rows) {
+  std::vector<std::string> notes;
+  for (const auto* row : rows) {
+    if (!row->method_note.empty()) notes.push_back(label_with_cell(row_label(*row), row->grid) + ": " + row->method_note);
+  }
+  return notes;
+}
+
 std::string unfinished_warning(const std::vector<RunRecord>& records) {
   std::string out;
   for (const RunRecord& record : records) {
@@ -163,6 +171,7 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
       pd.push_back(summary.performance_drop);
       adr.push_back(summary.average_drop_rate);
       row.seeds.push_back(record.seed);
+      if (row.method_note.empty()) row.method_note = record.method_note;
       const std::vector<StageConvergence> stages = base_stages(record);
       verdicts.push_back(run_verdict(stages));
       for (const auto& stage : stages) {

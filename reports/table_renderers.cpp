@@ -5,6 +5,7 @@
 #include <functional>
 #include <optional>
 
+#include "core/csv_text.h"
 #include "metrics/statistics.h"
 #include "reports/latex_text.h"
 #include "reports/paper_comparison.h"
@@ -129,8 +130,10 @@ std::string statistics_note(bool with_std) {
 }
 
 // A row whose base training was still rising, or did not learn, is marked; its footnote says how.
-std::string marked_label_suffix(const SummaryRow& row, const char* dagger) {
-  return ended_unfinished(row.training) ? dagger : "";
+// A row whose method carries a note (our reading of a method without a runnable release) is marked
+// with the other mark; its footnote gives the note.
+std::string marked_label_suffix(const SummaryRow& row, const char* dagger, const char* double_dagger) {
+  return std::string(ended_unfinished(row.training) ? dagger : "") + (row.method_note.empty() ? "" : double_dagger);
 }
 
 constexpr const char* kUnfinishedNote =
@@ -161,7 +164,7 @@ std::string render_csv(const SummaryTable& table) {
     out += ",AA_ci95,PD_ci95,ADR_ci95";
     for (std::size_t s = 0; s < sessions; ++s) out += fmt::format(",acc_{}_ci95", s);
   }
-  out += ",training\n";
+  out += ",training,method_note\n";
   for (const auto* row : all) {
     out += fmt::format("{},{}", row->method, row->dataset);
     for (const auto& key : grid_keys) out += "," + cell_value(*row, key);
@@ -187,7 +190,7 @@ std::string render_csv(const SummaryTable& table) {
         out += s < row->session_accuracy.size() ? ci95(row->session_accuracy[s]) : ",";
       }
     }
-    out += fmt::format(",{}\n", verdict_name(row->training));
+    out += fmt::format(",{},{}\n", verdict_name(row->training), csv_field(row->method_note));
   }
   return out;
 }
@@ -224,7 +227,7 @@ std::string render_latex(const SummaryTable& table, const std::string& what) {
     for (std::size_t r = 0; r < rows.size(); ++r) {
       const SummaryRow* row = rows[r];
       for (const auto& key : grid_keys) out += latex_text(cell_value(*row, key)) + " & ";
-      out += latex_text(row_label(*row)) + marked_label_suffix(*row, "$^\\dagger$");
+      out += latex_text(row_label(*row)) + marked_label_suffix(*row, "$^\\dagger$", "$^\\ddagger$");
       for (std::size_t c = 0; c < columns.size(); ++c) {
         const std::string text =
             cell(columns[c].value(*row), columns[c], with_std, "$\\pm$", "{{\\scriptsize[{:.2f}, {:.2f}]}}");
@@ -238,6 +241,7 @@ std::string render_latex(const SummaryTable& table, const std::string& what) {
       out += fmt::format("\\par\\footnotesize $^\\dagger$ {}: {}.\n", latex_text(kUnfinishedNote),
                          latex_text(fmt::format("{}", fmt::join(notes, "; "))));
     }
+    for (const auto& note : method_notes(rows)) out += fmt::format("\\par\\footnotesize $^\\ddagger$ {}.\n", latex_text(note));
     out += "\\end{table*}\n\n";
   }
   return out;
@@ -266,7 +270,7 @@ std::string render_markdown(const SummaryTable& table) {
       const SummaryRow* row = rows[r];
       out += "|";
       for (const auto& key : grid_keys) out += fmt::format(" {} |", cell_value(*row, key));
-      out += fmt::format(" {}{} |", row_label(*row), marked_label_suffix(*row, " †"));
+      out += fmt::format(" {}{} |", row_label(*row), marked_label_suffix(*row, " †", " ‡"));
       for (std::size_t c = 0; c < columns.size(); ++c) {
         const std::string text = cell(columns[c].value(*row), columns[c], with_std, " ± ");
         out += bold[c][r] ? fmt::format(" **{}** |", text) : fmt::format(" {} |", text);
@@ -279,6 +283,7 @@ std::string render_markdown(const SummaryTable& table) {
       for (const auto& note : notes) out += fmt::format("- {}\n", note);
       out += "\n";
     }
+    for (const auto& note : method_notes(rows)) out += fmt::format("‡ {}\n\n", note);
   }
   return out;
 }

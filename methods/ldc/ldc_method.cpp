@@ -190,6 +190,9 @@ MethodEntry ldc_entry() {
                     "calibration unit trained to carry drawn features onto real ones; sessions fine-tune every row on "
                     "the shots and every class's calibrated draws",
                     [](const ParameterSet& params) { return std::make_unique<LdcMethod>(params); }};
+  entry.table_note =
+      "our reading of LDC: its release cannot run and its paper's text was not at hand, so every gap is ours "
+      "(docs/methods.md, \"ldc\")";
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const LdcSettings ldc = LdcSettings::from(read);

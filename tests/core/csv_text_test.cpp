@@ -18,6 +18,15 @@ TEST(CsvText, SplitsAtCommasOutsideQuotesAndUnquotesRfc4180Fields) {
   EXPECT_EQ(csv_fields(""), (Fields{""}));
 }
 
+TEST(CsvText, AFieldWrittenIsReadBackWhole) {
+  EXPECT_EQ(csv_field("plain text"), "plain text");
+  EXPECT_EQ(csv_field("a, b"), "\"a, b\"");
+  EXPECT_EQ(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+  for (const std::string text : {"x, y", "a \"q\", b", "", "one", "\"", "\"start"}) {
+    EXPECT_EQ(csv_fields(csv_field(text) + ",next"), (Fields{text, "next"})) << text;
+  }
+}
+
 TEST(CsvText, LinesLoseTheByteOrderMarkAndCarriageReturns) {
   EXPECT_EQ(csv_lines("\xEF\xBB\xBFh1,h2\r\n1,2\r\n"), (Fields{"h1,h2", "1,2"}));
   EXPECT_EQ(csv_lines("a\n\nb"), (Fields{"a", "", "b"}));

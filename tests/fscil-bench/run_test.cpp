@@ -83,6 +83,27 @@ TEST(Cli, SmokeRunWritesResultsAndReportRebuildsThem) {
   EXPECT_EQ(rows, 3);
 }
 
+// A method we read without a runnable release (its registry entry's table_note) says so in its
+// result file and beside its row in every table; a method run as its release runs it says nothing.
+TEST(Cli, AMethodOfOurReadingIsMarkedInItsResultAndEveryTable) {
+  TemporaryDirectory out;
+  const CommandResult run = run_cli("--methods prototype,ldc --dataset simtex-mini --profile smoke --seeds 1 --threads 1 "
+                                    "--quiet --no-cache --out " + out.path().string());
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const auto text_of = [](const std::filesystem::path& file) {
+    std::ifstream in(file);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_NE(text_of(out.path() / "results" / "ldc__simtex-mini__seed1.json").find("\"method_note\": \"our reading of LDC"),
+            std::string::npos);
+  EXPECT_EQ(text_of(out.path() / "results" / "prototype__simtex-mini__seed1.json").find("method_note"), std::string::npos);
+  EXPECT_NE(run.output.find("| ldc ‡ |"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("| prototype |"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("‡ ldc: our reading of LDC"), std::string::npos) << run.output;
+  EXPECT_NE(text_of(out.path() / "results.tex").find("ldc$^\\ddagger$"), std::string::npos);
+  EXPECT_NE(text_of(out.path() / "summary.csv").find(",\"our reading of LDC"), std::string::npos);
+}
+
 // Issue 70: an ETA per stage, none for the command.
 TEST(Cli, ACommandSaysAfterEachRunHowManyAreDoneAndWhyItCannotSayHowLongIsLeftWithoutRates) {
   TemporaryDirectory out;

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 
+#include "core/csv_text.h"
 #include "core/error.h"
 #include "metrics/convergence.h"
 #include "reports/run_record.h"
@@ -77,6 +78,14 @@ TEST(RunRecord, RoundTripsThroughJson) {
   EXPECT_DOUBLE_EQ(costed_copy.inference.seconds_per_sample, 2.5e-4);
   EXPECT_EQ(costed_copy.inference.batch, 128);
   EXPECT_EQ(run_record_file_name(original), "cop-fscil_cpi_pspc__simtex__seed3.json");
+
+  // A method's note travels with its result file; a file without one (every method run as its
+  // release runs it, and files from before the note) reads as none.
+  EXPECT_EQ(to_json_text(original).find("method_note"), std::string::npos);
+  RunRecord noted = original;
+  noted.method_note = "our reading of X: no runnable release";
+  EXPECT_EQ(run_record_from_json_text(to_json_text(noted), "memory").method_note, noted.method_note);
+  EXPECT_EQ(copy.method_note, "");
 }
 
 TEST(RunRecord, ASweepCellKeepsTheKeyOrderOfTheGridThroughItsFile) {
@@ -383,16 +392,16 @@ TEST(SummaryTable, CsvHoldsMeansStdAndConfidenceColumns) {
   const std::string csv = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70})}));
   const std::string header = csv.substr(0, csv.find('\n'));
   EXPECT_EQ(header, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,AA_std,PD_std,ADR_std,acc_0_std,"
-                    "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95,training");
+                    "acc_1_std,AA_ci95,PD_ci95,ADR_ci95,acc_0_ci95,acc_1_ci95,training,method_note");
   // Two seeds: no confidence interval (its t quantile is 12.7: it would say nothing).
-  EXPECT_NE(csv.find(",7.0711,7.0711,,,,,,not recorded\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",7.0711,7.0711,,,,,,not recorded,\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find("prototype,simtex,test,last,fp32,1 2,80.0000,10.0000,"), std::string::npos);
   const std::string three = render_csv(summarize_runs({record_of("prototype", 1, {90, 80}), record_of("prototype", 2, {80, 70}),
                                                        record_of("prototype", 3, {85, 75})}));
-  EXPECT_NE(three.find(",12.4208,12.4208,not recorded\n"), std::string::npos) << three;  // 4.3027 x 5 / sqrt(3)
+  EXPECT_NE(three.find(",12.4208,12.4208,not recorded,\n"), std::string::npos) << three;  // 4.3027 x 5 / sqrt(3)
   const std::string single = render_csv(summarize_runs({record_of("prototype", 1, {90, 80})}));
-  EXPECT_EQ(single, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
-                    "prototype,simtex,test,last,fp32,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded\n");
+  EXPECT_EQ(single, "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training,method_note\n"
+                    "prototype,simtex,test,last,fp32,1,85.0000,10.0000,11.1111,90.0000,80.0000,not recorded,\n");
 }
 
 // A run whose base log scored base validation after each epoch of `stage`.
@@ -412,7 +421,7 @@ TEST(SummaryTable, ARunWhoseBaseDidNotLearnIsMarkedAndWarned) {
   const SummaryTable table = summarize_runs({flat});
   ASSERT_EQ(table.rows.size(), 1u);
   EXPECT_EQ(table.rows[0].training, TrainingVerdict::not_learning);
-  EXPECT_NE(render_csv(table).find(",not learning\n"), std::string::npos) << render_csv(table);
+  EXPECT_NE(render_csv(table).find(",not learning,\n"), std::string::npos) << render_csv(table);
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| pits-sc † |"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("pretrain: its loss stayed at 2.3026 over all its epochs, not learning"), std::string::npos)
@@ -443,9 +452,9 @@ TEST(SummaryTable, EveryRenderingMarksARunWhoseBaseTrainingWasStillRising) {
   const auto ends_with = [](const std::string& line, const std::string& end) {
     return line.size() >= end.size() && line.compare(line.size() - end.size(), end.size(), end) == 0;
   };
-  EXPECT_TRUE(ends_with(line_of("prototype"), ",converged")) << csv;
-  EXPECT_TRUE(ends_with(line_of("amfo"), ",still rising")) << csv;
-  EXPECT_TRUE(ends_with(line_of("pan"), ",not recorded")) << csv;
+  EXPECT_TRUE(ends_with(line_of("prototype"), ",converged,")) << csv;
+  EXPECT_TRUE(ends_with(line_of("amfo"), ",still rising,")) << csv;
+  EXPECT_TRUE(ends_with(line_of("pan"), ",not recorded,")) << csv;
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| amfo † |"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("| prototype |"), std::string::npos) << markdown;
@@ -464,6 +473,32 @@ TEST(SummaryTable, EveryRenderingMarksARunWhoseBaseTrainingWasStillRising) {
             0u)
       << warning;
   EXPECT_EQ(unfinished_warning({finished}), "");
+}
+
+TEST(SummaryTable, EveryRenderingCarriesAMethodsNoteBesideItsRow) {
+  RunRecord ours = record_of("ldc", 1, {80, 70});
+  ours.method_note = "our reading of LDC: no runnable release, every gap ours";
+  RunRecord ours_seed2 = record_of("ldc", 2, {82, 71});  // a file from before the note
+  const SummaryTable table = summarize_runs({record_of("prototype", 1, {90, 80}), ours_seed2, ours});
+  ASSERT_EQ(table.rows.size(), 2u);
+  EXPECT_EQ(table.rows[1].method_note, ours.method_note);
+  const std::string markdown = render_markdown(table);
+  EXPECT_NE(markdown.find("| ldc ‡ |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| prototype |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("\n‡ ldc: our reading of LDC: no runnable release, every gap ours\n"), std::string::npos)
+      << markdown;
+  const std::string latex = render_latex(table);
+  EXPECT_NE(latex.find("ldc$^\\ddagger$"), std::string::npos) << latex;
+  EXPECT_NE(latex.find("\\par\\footnotesize $^\\ddagger$ ldc: our reading of LDC: no runnable release, every gap ours."),
+            std::string::npos)
+      << latex;
+  // The CSV's last field holds the note whole, commas and all, for the one reader to read back.
+  const std::vector<std::string> lines = csv_lines(render_csv(table));
+  ASSERT_EQ(lines.size(), 3u);
+  EXPECT_EQ(csv_fields(lines[0]).back(), "method_note");
+  EXPECT_EQ(csv_fields(lines[1]).back(), "");
+  EXPECT_EQ(csv_fields(lines[2]).back(), ours.method_note);
+  EXPECT_EQ(csv_fields(lines[2]).size(), csv_fields(lines[0]).size());
 }
 
 TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {
@@ -616,7 +651,7 @@ TEST(SummaryTable, ASweepOverSelectionKeepsOneSelectionColumn) {
                       in_cell(record_of("orco", 1, {95, 65}), {{"selection", "last"}})});
   EXPECT_TRUE(table.grid_keys().empty());
   const std::string csv = render_csv(table);
-  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')), "method,dataset,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training,method_note");
   EXPECT_NE(csv.find("\norco,simtex,test,test-oracle,fp32,1,85.0000,"), std::string::npos) << csv;
 }
 
@@ -627,11 +662,11 @@ TEST(SummaryTable, EveryRenderingHasAColumnPerGridKeyAndTheSelection) {
                                              in_cell(record_of("cop-fscil", 1, {90, 60}), {{"pic_weight", "1"}})});
   // ADR of one step is 100 x drop / first: 20/95 = 21.0526%, 30/95 = 31.5789%, 20/90, 30/90.
   EXPECT_EQ(render_csv(table),
-            "method,dataset,shot,pic_weight,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training\n"
-            "orco,simtex,5,,test,test-oracle,fp32,1,85.0000,20.0000,21.0526,95.0000,75.0000,not recorded\n"
-            "orco,simtex,5,,test,last,fp32,1,80.0000,30.0000,31.5789,95.0000,65.0000,not recorded\n"
-            "cop-fscil,simtex,,0.1,test,last,fp32,1,80.0000,20.0000,22.2222,90.0000,70.0000,not recorded\n"
-            "cop-fscil,simtex,,1,test,last,fp32,1,75.0000,30.0000,33.3333,90.0000,60.0000,not recorded\n");
+            "method,dataset,shot,pic_weight,split,selection,precision,seeds,AA,PD,ADR,acc_0,acc_1,training,method_note\n"
+            "orco,simtex,5,,test,test-oracle,fp32,1,85.0000,20.0000,21.0526,95.0000,75.0000,not recorded,\n"
+            "orco,simtex,5,,test,last,fp32,1,80.0000,30.0000,31.5789,95.0000,65.0000,not recorded,\n"
+            "cop-fscil,simtex,,0.1,test,last,fp32,1,80.0000,20.0000,22.2222,90.0000,70.0000,not recorded,\n"
+            "cop-fscil,simtex,,1,test,last,fp32,1,75.0000,30.0000,33.3333,90.0000,60.0000,not recorded,\n");
 
   const std::string markdown = render_markdown(table);
   EXPECT_NE(markdown.find("| shot | pic_weight | method | 0 | 1 | PD | AA | ADR |\n"

@@ -609,6 +609,7 @@ void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns&
   const ReplayFootprint replay = run.method->replay_footprint();
   record.replay_samples = replay.samples;
   record.replay_bytes = replay.bytes;
+  record.method_note = method_entry(run.method_name).table_note;
   if (!run.base_trained_by.empty()) record.parameters["base_training"] = "shared with " + run.base_trained_by;
   if (run.base_from_cache) record.parameters["base_training"] = "from the stage cache";
   if (!record.parameters.count("base_training") && !run.stages->taken().empty()) {
