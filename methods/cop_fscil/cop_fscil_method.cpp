@@ -97,18 +97,19 @@ TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& featur
   TrainingEmbedding result{projection.quotient, {}};
   if (with_pic) {
     namespace F = torch::nn::functional;
-    const auto unit = F::NormalizeFuncOptions().dim(1);
-    const auto in_pic_space = [&](const torch::Tensor& z) { return cop_settings_.pic_normalised ? F::normalize(z, unit) : z; };
+    const PicSpace space = cop_settings_.pic_space;
     std::vector<torch::Tensor> probe_invariants;
     {
       torch::NoGradGuard no_grad;
       for (const auto& probe : probe_embeddings) {
-        probe_invariants.push_back(adapter_->project(reflections.detach(), in_pic_space(probe)).invariant);
+        probe_invariants.push_back(pic_invariant(*adapter_, reflections.detach(), probe, space));
       }
     }
+    // The original's p_inv as the projection above has it, unless its space needs another.
     const torch::Tensor invariant =
-        cop_settings_.pic_normalised ? adapter_->project(reflections, in_pic_space(original)).invariant
-                                     : projection.invariant;
+        space == PicSpace::normalised  ? pic_invariant(*adapter_, reflections, original, space)
+        : space == PicSpace::invariant ? F::normalize(projection.invariant, F::NormalizeFuncOptions().dim(1))
+                                       : projection.invariant;
     result.side_loss = cop_settings_.pic_weight * probe_invariance_loss(invariant, torch::stack(probe_invariants));
   }
   return result;

@@ -45,7 +45,8 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.hidden = params.integer("pcqa_hidden", s.hidden, ValidRange::at_least(0));
   s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
   s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
-  s.pic_normalised = named_choice(params, "pic_space", s.pic_normalised, {{"normalised", true}, {"raw", false}});
+  s.pic_space = named_choice(params, "pic_space", s.pic_space,
+                             {{"raw", PicSpace::raw}, {"normalised", PicSpace::normalised}, {"invariant", PicSpace::invariant}});
 
   s.session_new_and_old =
       named_choice(params, "session_loss", s.session_new_and_old, {{"new-old", true}, {"joint", false}});

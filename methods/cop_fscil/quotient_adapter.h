@@ -51,6 +51,17 @@ class QuotientAdapterImpl : public torch::nn::Module {
 };
 TORCH_MODULE(QuotientAdapter);
 
+// What L_PIC compares (pic_space): the invariant coordinates as they are (raw, the paper's
+// formula), those of the unit-length embedding (normalised: p_inv / |z|), or their direction
+// (invariant: p_inv / |p_inv|). The classifier is a cosine, blind to z_hat's length, so raw and
+// normalised can be lowered by shrinking p_inv, or by moving z's length into the dropped
+// coordinates, rather than by making p_inv agree across probes; invariant cannot.
+enum class PicSpace { raw, normalised, invariant };
+
+// p_inv of z under `reflections` (the original's), in `space`.
+torch::Tensor pic_invariant(const QuotientAdapterImpl& adapter, const torch::Tensor& reflections, const torch::Tensor& z,
+                            PicSpace space);
+
 // L_PIC = mean over probes n of |p_inv^(0) - stopgrad(p_inv^(n))|^2 (mean over samples too).
 // probe_invariants: N_cp x N x d_inv.
 torch::Tensor probe_invariance_loss(const torch::Tensor& original_invariant, const torch::Tensor& probe_invariants);

@@ -84,6 +84,29 @@ TEST(ProbeInvarianceLoss, SendsNoGradientThroughTheProbeBranch) {
   EXPECT_GT(original.grad().abs().sum().item<double>(), 0.0);
 }
 
+// The three spaces L_PIC can compare in, on a z whose dropped coordinates are made 10 times longer
+// (what the encoder can do to lower L_PIC without making p_inv agree): raw p_inv stays, the
+// normalised one shrinks, the invariant direction stays; scaling all of z moves raw only.
+TEST(PicInvariant, OnlyTheInvariantDirectionIgnoresBothALongerDroppedPartAndZsLength) {
+  torch::manual_seed(7);
+  QuotientAdapter adapter(QuotientAdapterOptions{16, 4, 12, 0});
+  const torch::Tensor z = torch::randn({5, 16});
+  const torch::Tensor reflections = adapter->reflections_of(z);
+  // z with its dropped part (in Q's coordinates) 10 times longer: Q^T [p_inv; 10 p_sen].
+  const torch::Tensor p = apply_q(reflections, z);
+  const torch::Tensor stretched = apply_q_transpose(
+      reflections, torch::cat({p.slice(1, 0, 12), 10 * p.slice(1, 12)}, 1));
+  const auto in = [&](PicSpace space, const torch::Tensor& x) { return pic_invariant(*adapter, reflections, x, space); };
+  EXPECT_TRUE(torch::allclose(in(PicSpace::raw, stretched), in(PicSpace::raw, z), 1e-4, 1e-5));
+  EXPECT_LT(in(PicSpace::normalised, stretched).norm().item<double>(),
+            0.5 * in(PicSpace::normalised, z).norm().item<double>());
+  EXPECT_TRUE(torch::allclose(in(PicSpace::invariant, stretched), in(PicSpace::invariant, z), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(in(PicSpace::raw, 3 * z), 3 * in(PicSpace::raw, z), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(in(PicSpace::normalised, 3 * z), in(PicSpace::normalised, z), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(in(PicSpace::invariant, 3 * z), in(PicSpace::invariant, z), 1e-4, 1e-5));
+  EXPECT_TRUE(torch::allclose(in(PicSpace::invariant, z).norm(2, 1), torch::ones({5}), 1e-4, 1e-5));
+}
+
 torch::Tensor ramp_features() {
   // 2 samples, 2 channels, 4 Mel bins, 16 frames; each frame holds its index, so shifts are visible.
   return torch::arange(16).to(torch::kFloat).view({1, 1, 1, 16}).expand({2, 2, 4, 16}).contiguous();
