@@ -25,9 +25,16 @@ struct RunSizes {
   int removing_sessions = 0;         // of them, sessions that only remove classes and train nothing
   std::int64_t sample_values = 0;    // one sample's log-Mel values (channels x Mel bins x frames)
   std::vector<std::int64_t> scored;  // per session: the samples it scores (every class seen by then)
-  int total_classes() const { return base_classes + way * (sessions - 1); }
-  // Classes seen before incremental session s (1-based): what a session's replay grows with.
-  std::int64_t classes_before(int session) const { return base_classes + static_cast<std::int64_t>(way) * (session - 1); }
+  // Under removal: per session s >= 1, the classes present as it begins (seen and not removed);
+  // empty for add-only runs, where every session adds `way`.
+  std::vector<std::int64_t> present_before;
+  // Classes the protocol introduces, removed ones included.
+  int total_classes() const { return base_classes + way * (sessions - 1 - removing_sessions); }
+  // Classes present before incremental session s (1-based): what a session's replay grows with.
+  std::int64_t classes_before(int session) const {
+    if (!present_before.empty()) return present_before.at(static_cast<std::size_t>(session));
+    return base_classes + static_cast<std::int64_t>(way) * (session - 1);
+  }
 };
 
 // What one stage of a run computes, in the units fscil-bench plan has measured rates for.

@@ -68,6 +68,28 @@ TEST(RunSeconds, ASharedStageIsCountedByTheFirstRunThatTrainsIt) {
   EXPECT_DOUBLE_EQ(run_seconds(entry, ParameterSet(), three_sessions(), rates, false, stages), 1.1 * 10);
 }
 
+// Under removal=fciac a removing session adds no class and the classes it removes leave what later
+// sessions replay: the sizes count the classes present, not every session as an adding one.
+TEST(CommandSizes, UnderRemovalCountTheClassesPresentBeforeEachSession) {
+  RunOptions options;
+  options.methods = "prototype";
+  options.dataset = "simtex-mini";
+  options.profile = "smoke";
+  options.no_cache = true;
+  options.assignments = {"removal=fciac", "sessions=4"};
+  const RunSizes run = command_sizes(options).runs.begin()->second;
+  // Sessions 1 and 3 add 5 classes each; session 2 removes one base and one novel class.
+  EXPECT_EQ(run.removing_sessions, 1);
+  EXPECT_EQ(run.total_classes(), run.base_classes + 10);
+  EXPECT_EQ(run.classes_before(1), run.base_classes);
+  EXPECT_EQ(run.classes_before(2), run.base_classes + 5);
+  EXPECT_EQ(run.classes_before(3), run.base_classes + 3);
+  options.assignments = {"sessions=3"};
+  const RunSizes adding = command_sizes(options).runs.begin()->second;
+  EXPECT_EQ(adding.total_classes(), adding.base_classes + 10);
+  EXPECT_EQ(adding.classes_before(2), adding.base_classes + 5);
+}
+
 // The smoke profile's values as the methods read them on simtex-mini.
 ParameterSet smoke(const std::string& method) {
   RunOptions options;

@@ -718,8 +718,14 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     run.sessions = schedule.plan.sessions;
     run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
+    const bool removal = schedule.plan.removal != ClassRemoval::none;
+    if (removal) run.present_before.push_back(0);  // the base session: none before it
     for (int session = 0; session < run.sessions; ++session) {
       if (session > 0 && !schedule.plan.adds_classes(session)) ++run.removing_sessions;
+      if (removal && session > 0) {
+        run.present_before.push_back(schedule.plan.seen_after(session - 1) -
+                                     static_cast<std::int64_t>(schedule.plan.removed_by(session - 1).size()));
+      }
       const int seen = schedule.plan.seen_after(session);
       const std::vector<int> removed = schedule.plan.removed_by(session);
       run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
