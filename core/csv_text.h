@@ -13,8 +13,9 @@ std::vector<std::string> csv_lines(const std::string& text);
 // with a quote runs to its closing quote, "" inside is one quote; a quote elsewhere is a
 // character); blanks around each field are dropped. A trailing comma gives an empty last field.
 std::vector<std::string> csv_fields(const std::string& line);
-// `text` as one field that csv_fields reads back (blanks at its ends aside, which the reader drops):
-// in double quotes, a quote doubled, when it holds a comma or a quote; as it is otherwise.
+// The one CSV field writer: `text` in double quotes, a quote doubled, when it holds a comma, a quote
+// or a line break (RFC 4180); as it is otherwise. csv_fields reads it back (blanks at its ends aside,
+// which the reader drops), except a line break, which csv_lines splits: writers keep them out.
 std::string csv_field(const std::string& text);
 // `text` without the blanks (spaces, tabs, line ends) around it.
 std::string trimmed(const std::string& text);

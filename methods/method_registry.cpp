@@ -100,6 +100,11 @@ void register_method(MethodEntry entry) {
     throw MethodError(fmt::format("register_method: '{}' is registered already", entry.name));
   }
   if (!entry.create) throw MethodError(fmt::format("register_method: '{}' has no create function", entry.name));
+  if (std::any_of(entry.table_note.begin(), entry.table_note.end(),
+                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+    throw MethodError(fmt::format("register_method: '{}' has a table_note of more than one line: a table's footnote "
+                                  "is one line without control characters", entry.name));
+  }
   registry().push_back(std::move(entry));
 }
 

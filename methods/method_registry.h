@@ -25,16 +25,21 @@ struct RunSizes {
   int removing_sessions = 0;         // of them, sessions that only remove classes and train nothing
   std::int64_t sample_values = 0;    // one sample's log-Mel values (channels x Mel bins x frames)
   std::vector<std::int64_t> scored;  // per session: the samples it scores (every class seen by then)
-  // Under removal: per session s >= 1, the classes present as it begins (seen and not removed);
-  // empty for add-only runs, where every session adds `way`.
-  std::vector<std::int64_t> present_before;
+  // Per session s (index s; 0, the base session, holds 0): the base and the novel classes present as
+  // it begins, seen and not removed. The runner fills them; sizes made by hand without them are
+  // add-only ones, every session adding `way`.
+  std::vector<std::int64_t> base_present_before, novel_present_before;
   // Classes the protocol introduces, removed ones included.
   int total_classes() const { return base_classes + way * (sessions - 1 - removing_sessions); }
   // Classes present before incremental session s (1-based): what a session's replay grows with.
-  std::int64_t classes_before(int session) const {
-    if (!present_before.empty()) return present_before.at(static_cast<std::size_t>(session));
-    return base_classes + static_cast<std::int64_t>(way) * (session - 1);
+  std::int64_t base_classes_before(int session) const {
+    return base_present_before.empty() ? base_classes : base_present_before.at(static_cast<std::size_t>(session));
   }
+  std::int64_t novel_classes_before(int session) const {
+    return novel_present_before.empty() ? static_cast<std::int64_t>(way) * (session - 1)
+                                        : novel_present_before.at(static_cast<std::size_t>(session));
+  }
+  std::int64_t classes_before(int session) const { return base_classes_before(session) + novel_classes_before(session); }
 };
 
 // What one stage of a run computes, in the units fscil-bench plan has measured rates for.
@@ -85,8 +90,10 @@ struct MethodEntry {
   // Methods that differ only after the base session name the same key: the runner trains that base
   // once per seed and hands it on (Method::continue_from_base). Empty: the method shares none.
   std::string shared_base_key = {};
-  // Empty for a method run as its release runs it. Otherwise what every table says of its numbers
-  // beside them (a footnote): e.g. that no runnable release exists and the method is our reading.
+
+  // What a reader is told of its numbers. Empty for a method run as its release runs it; otherwise
+  // one line that the results tables and report --paper print as a footnote of its rows, saying
+  // what our numbers are of, e.g. "our reading of LDC: its release cannot run ...".
   std::string table_note = {};
 };
 

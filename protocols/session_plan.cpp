@@ -67,7 +67,7 @@ std::string describe_removal(const SessionPlan& plan) {
   return fmt::format("class-variable sessions (removal=fciac): sessions {} add {} classes each; {}; {} of {} classes "
                      "remain",
                      fmt::join(adding, ", "), plan.way, fmt::join(removing, "; "),
-                     plan.seen_after(last) - static_cast<int>(plan.removed_by(last).size()), plan.seen_after(last));
+                     plan.present_after(last), plan.seen_after(last));
 }
 
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,

@@ -36,6 +36,8 @@ struct SessionPlan {
   int total_classes() const { return base_classes + way * adding_sessions_up_to(sessions - 1); }
   // Classes introduced in sessions 0..session, removed ones included: the classifier's rows.
   int seen_after(int session) const { return base_classes + way * adding_sessions_up_to(session); }
+  // Classes seen after sessions 0..session and not removed by then.
+  int present_after(int session) const { return seen_after(session) - static_cast<int>(removed_by(session).size()); }
   // The first class `session` adds (its range [first_class_of, seen_after) is empty when it adds none).
   int first_class_of(int session) const;
   int session_of_class(int protocol_class) const;

@@ -4,16 +4,11 @@
 
 #include <cmath>
 
+#include "core/csv_text.h"
+
 namespace fscil {
 
 namespace {
-
-std::string csv_field(const std::string& text) {
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return quoted + "\"";
-}
 
 std::string csv_number(double value) { return std::isfinite(value) ? fmt::format("{:.8g}", value) : ""; }
 

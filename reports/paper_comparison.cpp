@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/csv_text.h"
 #include "core/error.h"
 
 namespace fscil {
@@ -109,7 +110,8 @@ std::string render_paper_comparison_csv(const std::vector<PaperComparisonRow>& r
   std::size_t sessions = 0;
   for (const auto& row : rows) sessions = std::max(sessions, row.sessions);
   std::string out =
-      fmt::format("dataset,method,source,simulated,paper_dataset,paper_table,paper_method,{}\n", column_names(sessions));
+      fmt::format("dataset,method,source,simulated,paper_dataset,paper_table,paper_method,{},method_note\n",
+                  column_names(sessions));
   for (const auto& row : rows) {
     const auto line = [&](const char* source, const std::vector<double>& values) {
       // The paper's own numbers are of the real data, whatever ours are of.
@@ -118,7 +120,8 @@ std::string render_paper_comparison_csv(const std::vector<PaperComparisonRow>& r
                          row.paper_dataset, row.paper_table, row.paper_method);
       for (std::size_t s = 0; s < sessions; ++s) out += s < row.sessions ? fmt::format(",{:.2f}", values[s]) : ",";
       for (std::size_t k = row.sessions; k < values.size(); ++k) out += fmt::format(",{:.2f}", values[k]);
-      out += "\n";
+      // The note is about our numbers: on our line only.
+      out += fmt::format(",{}\n", std::string(source) == "ours" ? csv_field(row.method_note) : "");
     };
     std::vector<double> difference(row.ours.size());
     for (std::size_t k = 0; k < difference.size(); ++k) difference[k] = row.ours[k] - row.paper[k];
@@ -136,7 +139,7 @@ std::string render_paper_comparison_markdown(const std::vector<PaperComparisonRo
     out += fmt::format("### {} on {} beside the paper ({} on {}, table {}){}\n\n", row.method, label_of(row),
                        row.paper_method, row.paper_dataset, row.paper_table,
                        row.simulated ? ": our data are simulated, the paper's real" : "");
-    if (!row.method_note.empty()) out += fmt::format("Ours is {}.\n\n", row.method_note);
+    if (!row.method_note.empty()) out += fmt::format("‡ ours: {}.\n\n", row.method_note);
     out += "| | ";
     for (std::size_t s = 0; s < row.sessions; ++s) out += fmt::format("{} | ", s);
     out += "PD | AA | ADR |\n|---|";

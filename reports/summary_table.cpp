@@ -78,10 +78,19 @@ std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& 
 }
 
 std::vector<std::string> method_notes(const std::vector<const SummaryRow*>& rows) {
-  std::vector<std::string> notes;
+  std::vector<std::pair<std::string, std::vector<std::string>>> labels_of_note;  // in order of first appearance
   for (const auto* row : rows) {
-    if (!row->method_note.empty()) notes.push_back(label_with_cell(row_label(*row), row->grid) + ": " + row->method_note);
+    if (row->method_note.empty()) continue;
+    auto same = std::find_if(labels_of_note.begin(), labels_of_note.end(),
+                             [&](const auto& entry) { return entry.first == row->method_note; });
+    if (same == labels_of_note.end()) {
+      labels_of_note.emplace_back(row->method_note, std::vector<std::string>{});
+      same = labels_of_note.end() - 1;
+    }
+    same->second.push_back(label_with_cell(row_label(*row), row->grid));
   }
+  std::vector<std::string> notes;
+  for (const auto& [note, labels] : labels_of_note) notes.push_back(fmt::format("{}: {}", fmt::join(labels, ", "), note));
   return notes;
 }
 
@@ -171,7 +180,10 @@ SummaryTable summarize_runs(const std::vector<RunRecord>& records) {
       pd.push_back(summary.performance_drop);
       adr.push_back(summary.average_drop_rate);
       row.seeds.push_back(record.seed);
-      if (row.method_note.empty()) row.method_note = record.method_note;
+      // Seeds from different builds may word the note differently: every distinct wording is kept.
+      if (!record.method_note.empty() && row.method_note.find(record.method_note) == std::string::npos) {
+        row.method_note += (row.method_note.empty() ? "" : "; ") + record.method_note;
+      }
       const std::vector<StageConvergence> stages = base_stages(record);
       verdicts.push_back(run_verdict(stages));
       for (const auto& stage : stages) {

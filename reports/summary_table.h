@@ -35,7 +35,7 @@ struct SummaryRow {
   // if any seed's is, and per such seed and stage what was still rising ("seed 2, pretrain: ...").
   TrainingVerdict training = TrainingVerdict::not_recorded;
   std::vector<std::string> unfinished;
-  // RunRecord::method_note of its runs (the first that has one): what every table says of the method.
+  // RunRecord::method_note of its runs (distinct wordings joined by "; "): its rows' footnote.
   std::string method_note;
 };
 
@@ -64,7 +64,7 @@ TrainingVerdict seeds_verdict(const std::vector<TrainingVerdict>& verdicts);
 // The rows of `rows` whose base training was still rising, each note as "method [cell], seed N,
 // stage: ..." for a table's footnote; empty when every row finished.
 std::vector<std::string> unfinished_notes(const std::vector<const SummaryRow*>& rows);
-// "method [cell]: note" for each row of `rows` with a method_note, for a table's footnote.
+// A table's footnotes of the methods' notes: one per distinct note, "method [cell], ...: note".
 std::vector<std::string> method_notes(const std::vector<const SummaryRow*>& rows);
 // "warning: ..." lines naming every run of `records` with a base stage that ended still rising
 // (check and report --paper print them: such a number was not measured at its plateau); empty

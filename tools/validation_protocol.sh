@@ -48,6 +48,7 @@ cop_fscil_configs=(
   "full|cop-fscil|$pspc_before"
   "full-dsen-m|cop-fscil|$pspc_before pcqa_sensitive_dim=8"
   "full-pic-normalised|cop-fscil|$pspc_before pic_space=normalised"
+  "full-pic-invariant|cop-fscil|pic_space=invariant"
   "full-pspc-normalised|cop-fscil|pspc_instability=normalised pspc_mean=views"
   "full-pspc-original|cop-fscil|pspc_instability=raw pspc_mean=original"
   "full-pretrain-cpi|cop-fscil|$pspc_before cpi_pretrain_coverage=0.5"

@@ -96,20 +96,15 @@ TrainingEmbedding CopFscilMethod::training_embedding(const torch::Tensor& featur
   const auto projection = adapter_->project(reflections, original);
   TrainingEmbedding result{projection.quotient, {}};
   if (with_pic) {
-    namespace F = torch::nn::functional;
     const PicSpace space = cop_settings_.pic_space;
     std::vector<torch::Tensor> probe_invariants;
     {
       torch::NoGradGuard no_grad;
       for (const auto& probe : probe_embeddings) {
-        probe_invariants.push_back(pic_invariant(*adapter_, reflections.detach(), probe, space));
+        probe_invariants.push_back(pic_invariant(adapter_->project(reflections.detach(), probe).invariant, probe, space));
       }
     }
-    // The original's p_inv as the projection above has it, unless its space needs another.
-    const torch::Tensor invariant =
-        space == PicSpace::normalised  ? pic_invariant(*adapter_, reflections, original, space)
-        : space == PicSpace::invariant ? F::normalize(projection.invariant, F::NormalizeFuncOptions().dim(1))
-                                       : projection.invariant;
+    const torch::Tensor invariant = pic_invariant(projection.invariant, original, space);
     result.side_loss = cop_settings_.pic_weight * probe_invariance_loss(invariant, torch::stack(probe_invariants));
   }
   return result;

@@ -45,7 +45,7 @@ struct CopFscilSettings {
   std::int64_t hidden = 0;           // pcqa_hidden, g's hidden width; 0 = D (ours)
   double pic_weight = 0.1;           // lambda of L_PIC (paper)
   int pic_probes = 2;                // N_cp (ours)
-  PicSpace pic_space = PicSpace::raw;
+  PicSpace pic_space = PicSpace::raw;  // pic_space=raw|normalised|invariant: what L_PIC compares (paper: raw)
 
   // session_loss=new-old: L_Inc = L_New + L_Old, the paper's incremental objective (Eq. 24-26) in
   // every variant; joint: PITS-SC's cross-entropy over every seen class, as the baseline has it.

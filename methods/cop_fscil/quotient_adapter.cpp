@@ -73,13 +73,15 @@ void QuotientAdapterImpl::count_cost(ModelCost& cost, const std::string& name) c
   cost.add({name + ".reflections", "reflections", reflections_macs(options_.dim, 2 * options_.reflections)});
 }
 
-torch::Tensor pic_invariant(const QuotientAdapterImpl& adapter, const torch::Tensor& reflections, const torch::Tensor& z,
-                            PicSpace space) {
+torch::Tensor pic_invariant(const torch::Tensor& invariant, const torch::Tensor& z, PicSpace space) {
   namespace F = torch::nn::functional;
   const auto unit = F::NormalizeFuncOptions().dim(1);
-  if (space == PicSpace::normalised) return adapter.project(reflections, F::normalize(z, unit)).invariant;
-  const torch::Tensor invariant = adapter.project(reflections, z).invariant;
-  return space == PicSpace::invariant ? F::normalize(invariant, unit) : invariant;
+  switch (space) {
+    case PicSpace::raw: return invariant;
+    case PicSpace::normalised: return invariant / z.norm(2, 1, true).clamp_min(1e-12);
+    case PicSpace::invariant: return F::normalize(invariant, unit);
+  }
+  return invariant;
 }
 
 torch::Tensor probe_invariance_loss(const torch::Tensor& original_invariant, const torch::Tensor& probe_invariants) {

@@ -58,9 +58,9 @@ TORCH_MODULE(QuotientAdapter);
 // coordinates, rather than by making p_inv agree across probes; invariant cannot.
 enum class PicSpace { raw, normalised, invariant };
 
-// p_inv of z under `reflections` (the original's), in `space`.
-torch::Tensor pic_invariant(const QuotientAdapterImpl& adapter, const torch::Tensor& reflections, const torch::Tensor& z,
-                            PicSpace space);
+// p_inv, the invariant coordinates of z (N x d_inv, from QuotientAdapterImpl::project), in `space`.
+// Q keeps lengths, so p_inv / |z| is the p_inv of the unit-length z.
+torch::Tensor pic_invariant(const torch::Tensor& invariant, const torch::Tensor& z, PicSpace space);
 
 // L_PIC = mean over probes n of |p_inv^(0) - stopgrad(p_inv^(n))|^2 (mean over samples too).
 // probe_invariants: N_cp x N x d_inv.

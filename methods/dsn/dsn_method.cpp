@@ -208,8 +208,7 @@ MethodEntry dsn_entry() {
     StageWork sessions = session_work(sizes, 0);
     // 0.21 head steps per class and epoch: fitted on simtex, fast, seed 1 (docs/profiling.md).
     sessions.head_steps = gaussian_replay_head_steps(sizes, dsn.session_epochs, dsn.session_batch, 0.21, [&](int session) {
-      const double earlier_novel = sizes.classes_before(session) - sizes.base_classes;
-      return dsn.base_samples * sizes.base_classes + dsn.old_samples * earlier_novel +
+      return dsn.base_samples * sizes.base_classes_before(session) + dsn.old_samples * sizes.novel_classes_before(session) +
              (dsn.new_samples + sizes.shot) * sizes.way;
     });
     // Gaussians of the base classes, then validation.

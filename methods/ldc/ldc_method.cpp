@@ -192,7 +192,7 @@ MethodEntry ldc_entry() {
                     [](const ParameterSet& params) { return std::make_unique<LdcMethod>(params); }};
   entry.table_note =
       "our reading of LDC: its release cannot run and its paper's text was not at hand, so every gap is ours "
-      "(docs/methods.md, \"ldc\")";
+      "(docs/methods.md, section ldc)";
   entry.base_epoch_keys = {"pretrain_epochs"};
   entry.work = [](const ParameterSet& read, const RunSizes& sizes) {
     const LdcSettings ldc = LdcSettings::from(read);

@@ -22,6 +22,7 @@ TEST(CsvText, AFieldWrittenIsReadBackWhole) {
   EXPECT_EQ(csv_field("plain text"), "plain text");
   EXPECT_EQ(csv_field("a, b"), "\"a, b\"");
   EXPECT_EQ(csv_field("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csv_field("two\nlines"), "\"two\nlines\"");  // RFC 4180; csv_lines would split it: writers keep them out
   for (const std::string text : {"x, y", "a \"q\", b", "", "one", "\"", "\"start"}) {
     EXPECT_EQ(csv_fields(csv_field(text) + ",next"), (Fields{text, "next"})) << text;
   }

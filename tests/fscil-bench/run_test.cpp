@@ -102,6 +102,19 @@ TEST(Cli, AMethodOfOurReadingIsMarkedInItsResultAndEveryTable) {
   EXPECT_NE(run.output.find("‡ ldc: our reading of LDC"), std::string::npos) << run.output;
   EXPECT_NE(text_of(out.path() / "results.tex").find("ldc$^\\ddagger$"), std::string::npos);
   EXPECT_NE(text_of(out.path() / "summary.csv").find(",\"our reading of LDC"), std::string::npos);
+
+  // A result file from before the note gets the one this program has for its method.
+  const std::filesystem::path ldc_file = out.path() / "results" / "ldc__simtex-mini__seed1.json";
+  std::string record = text_of(ldc_file);
+  const std::size_t line = record.find("  \"method_note\"");
+  ASSERT_NE(line, std::string::npos);
+  record.erase(line, record.find('\n', line) + 1 - line);
+  std::ofstream(ldc_file) << record;
+  std::filesystem::remove(out.path() / "summary.csv");
+  const CommandResult report = run_cli("report --results " + out.path().string());
+  ASSERT_EQ(report.exit_code, 0) << report.output;
+  EXPECT_NE(report.output.find("| ldc ‡ |"), std::string::npos) << report.output;
+  EXPECT_NE(text_of(out.path() / "summary.csv").find(",\"our reading of LDC"), std::string::npos);
 }
 
 // Issue 70: an ETA per stage, none for the command.

@@ -146,6 +146,9 @@ TEST(MethodRegistry, RefusesTakenReservedAndMalformedNames) {
     EXPECT_THROW(register_method({name, "test", make}), MethodError) << name;
   }
   EXPECT_THROW(register_method({"no-create", "test", nullptr}), MethodError);
+  MethodEntry two_lines{"two-line-note", "test", make};
+  two_lines.table_note = "our reading\nof something";
+  EXPECT_THROW(register_method(two_lines), MethodError);
   EXPECT_EQ(method_registry().size(), registered);
 }
 

@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
       runs.push_back(run_with_accuracies("prototype", "simtex", seed, {90 + shift, 80, 71 - shift}));
       runs.push_back(run_with_accuracies("cop-fscil/cpi+pspc", "simtex", seed, {92, 83 + shift, 75}));
       runs.push_back(run_with_accuracies("cop-fscil/cpi+pspc", "lab_2024&co", seed, {60 + shift, 50, 40}));
+      // A method's note is free text from a result file: every LaTeX special, as text.
+      runs.back().method_note = "our reading: \\input{x} ~ ^ {braces} & 100% #1 $5 a_b";
     }
     const SummaryTable three_seeds = summarize_runs(runs);
     write_file_atomically(folder / "results.tex", render_latex(three_seeds));

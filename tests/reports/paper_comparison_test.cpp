@@ -30,7 +30,7 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
   EXPECT_TRUE(rows[1].simulated);
 
   const std::string csv = render_paper_comparison_csv(rows);
-  EXPECT_NE(csv.find("dataset,method,source,simulated,paper_dataset,paper_table,paper_method,acc_0,acc_1,acc_2,PD,AA,ADR\n"),
+  EXPECT_NE(csv.find("dataset,method,source,simulated,paper_dataset,paper_table,paper_method,acc_0,acc_1,acc_2,PD,AA,ADR,method_note\n"),
             std::string::npos) << csv;
   EXPECT_NE(csv.find("haptex,cop-fscil,ours,no,HapTex,results_haptex,CoP-FSCIL,81.00,71.00,64.00,17.00,72.00,"),
             std::string::npos) << csv;
@@ -44,6 +44,23 @@ TEST(PaperComparison, OursBesideThePapersRowOfTheSameDatasetAndMethod) {
   EXPECT_NE(markdown.find("cop-fscil/cpi on simtex (simulated HapTex)"), std::string::npos) << markdown;
   EXPECT_NE(markdown.find("our data are simulated, the paper's real"), std::string::npos);
   EXPECT_NE(markdown.find("| ours - paper | -28.00 | -28.00 | -28.00 |"), std::string::npos) << markdown;
+  EXPECT_EQ(markdown.find("‡"), std::string::npos) << "no method here carries a note";
+}
+
+// A method of our reading (its registry's table_note) says so beside the paper's row: on our CSV
+// line and above the Markdown table.
+TEST(PaperComparison, AMethodsNoteStandsOnOurLineOnly) {
+  RunRecord ours = run_with_accuracies("cop-fscil", "haptex", 1, {80, 70, 66});
+  ours.method_note = "our reading of X, as a test";
+  const auto rows = compare_with_paper(summarize_runs({ours}), paper());
+  ASSERT_EQ(rows.size(), 1u);
+  const std::string csv = render_paper_comparison_csv(rows);
+  EXPECT_NE(csv.find(",\"our reading of X, as a test\"\nhaptex,cop-fscil,paper,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("ours-paper,no,HapTex,results_haptex,CoP-FSCIL,-10.00,-10.00,-4.00,-6.00,-8.00,-2.00,\n"), std::string::npos)
+      << csv;
+  EXPECT_EQ(csv.back(), '\n');
+  EXPECT_EQ(csv.substr(csv.rfind(',', csv.size() - 2)), ",\n") << "the difference line carries no note";
+  EXPECT_NE(render_paper_comparison_markdown(rows).find("\n‡ ours: our reading of X, as a test.\n"), std::string::npos);
 }
 
 TEST(PaperComparison, Bf16RunsAreNotComparedWithThePapersFp32Numbers) {

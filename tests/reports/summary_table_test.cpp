@@ -86,6 +86,8 @@ TEST(RunRecord, RoundTripsThroughJson) {
   noted.method_note = "our reading of X: no runnable release";
   EXPECT_EQ(run_record_from_json_text(to_json_text(noted), "memory").method_note, noted.method_note);
   EXPECT_EQ(copy.method_note, "");
+  noted.method_note = "one\ntwo";
+  EXPECT_THROW(run_record_from_json_text(to_json_text(noted), "memory"), ReportError);
 }
 
 TEST(RunRecord, ASweepCellKeepsTheKeyOrderOfTheGridThroughItsFile) {
@@ -499,6 +501,23 @@ TEST(SummaryTable, EveryRenderingCarriesAMethodsNoteBesideItsRow) {
   EXPECT_EQ(csv_fields(lines[1]).back(), "");
   EXPECT_EQ(csv_fields(lines[2]).back(), ours.method_note);
   EXPECT_EQ(csv_fields(lines[2]).size(), csv_fields(lines[0]).size());
+
+  // Seeds whose files word it differently keep both wordings; sweep cells of one note share one footnote.
+  RunRecord reworded = record_of("ldc", 3, {81, 72});
+  reworded.method_note = "our reading of LDC, reworded";
+  EXPECT_EQ(summarize_runs({ours, ours_seed2, reworded}).rows[0].method_note, ours.method_note + "; " + reworded.method_note);
+  const SummaryTable swept = summarize_runs({in_cell(ours, {{"shot", "1"}}), in_cell(ours, {{"shot", "5"}})});
+  const std::string sweep_markdown = render_markdown(swept);
+  EXPECT_NE(sweep_markdown.find("‡ ldc [shot=1], ldc [shot=5]: our reading of LDC"), std::string::npos) << sweep_markdown;
+  EXPECT_EQ(sweep_markdown.find("our reading of LDC"), sweep_markdown.rfind("our reading of LDC")) << sweep_markdown;
+
+  // A note is free text from a result file: LaTeX's specials print as text, none acts.
+  RunRecord hostile = record_of("ldc", 1, {80, 70});
+  hostile.method_note = "\\input{x} ~ ^ 100%";
+  const std::string escaped = render_latex(summarize_runs({hostile}));
+  EXPECT_NE(escaped.find("ldc: \\textbackslash{}input\\{x\\} \\textasciitilde{} \\textasciicircum{} 100\\%."),
+            std::string::npos)
+      << escaped;
 }
 
 TEST(SummaryTable, SaysWhichSplitWasScoredAndNeverMixesTestWithValidation) {

@@ -84,6 +84,8 @@ TEST(CommandSizes, UnderRemovalCountTheClassesPresentBeforeEachSession) {
   EXPECT_EQ(run.classes_before(1), run.base_classes);
   EXPECT_EQ(run.classes_before(2), run.base_classes + 5);
   EXPECT_EQ(run.classes_before(3), run.base_classes + 3);
+  EXPECT_EQ(run.base_classes_before(3), run.base_classes - 1);
+  EXPECT_EQ(run.novel_classes_before(3), 4);
   options.assignments = {"sessions=3"};
   const RunSizes adding = command_sizes(options).runs.begin()->second;
   EXPECT_EQ(adding.total_classes(), adding.base_classes + 10);

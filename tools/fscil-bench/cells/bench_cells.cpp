@@ -185,6 +185,10 @@ std::vector<RunRecord> load_command_records(const std::string& results, const st
                                             const std::vector<std::string>& grid) {
   std::vector<RunRecord> records = grid.empty() ? load_run_records(results) : load_sweep_records(results, grid);
   require_known_names(records);
+  // Files written before results carried the method's note get the one this program has for it.
+  for (RunRecord& record : records) {
+    if (record.method_note.empty()) record.method_note = method_entry(record.method).table_note;
+  }
   const std::vector<std::string> order = resolve_method_names(methods.empty() ? "all" : methods);
   std::vector<std::string> cells;  // as load_sweep_records ordered them
   for (const auto& record : records) {

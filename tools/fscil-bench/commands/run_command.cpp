@@ -718,16 +718,15 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     run.sessions = schedule.plan.sessions;
     run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
-    const bool removal = schedule.plan.removal != ClassRemoval::none;
-    if (removal) run.present_before.push_back(0);  // the base session: none before it
+    std::vector<int> removed;  // the classes removed by the session before this one
     for (int session = 0; session < run.sessions; ++session) {
       if (session > 0 && !schedule.plan.adds_classes(session)) ++run.removing_sessions;
-      if (removal && session > 0) {
-        run.present_before.push_back(schedule.plan.seen_after(session - 1) -
-                                     static_cast<std::int64_t>(schedule.plan.removed_by(session - 1).size()));
-      }
+      const auto base_removed = std::count_if(removed.begin(), removed.end(), [&](int c) { return c < run.base_classes; });
+      run.base_present_before.push_back(session > 0 ? run.base_classes - base_removed : 0);
+      run.novel_present_before.push_back(
+          session > 0 ? schedule.plan.present_after(session - 1) - run.base_present_before.back() : 0);
       const int seen = schedule.plan.seen_after(session);
-      const std::vector<int> removed = schedule.plan.removed_by(session);
+      removed = schedule.plan.removed_by(session);
       run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
         const int label = schedule.label[static_cast<std::size_t>(segment)];
         return label < seen && !std::binary_search(removed.begin(), removed.end(), label);
