@@ -5,7 +5,6 @@
 #include <cstring>
 
 namespace fscil {
-namespace {
 
 // A per-sample std::isfinite test took a tenth of the front end's time; this loop vectorises.
 __attribute__((target_clones("avx2", "default"))) bool all_finite(const float* values, std::int64_t count) {
@@ -18,8 +17,6 @@ __attribute__((target_clones("avx2", "default"))) bool all_finite(const float* v
   }
   return infinite == 0;
 }
-
-}  // namespace
 
 std::int64_t first_non_finite(const float* values, std::int64_t count) {
   if (all_finite(values, count)) return -1;

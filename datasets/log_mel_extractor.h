@@ -33,7 +33,8 @@ class LogMelExtractor {
                     int threads = 0) const;
 
  private:
-  void extract_range(const float* signals, std::int64_t first, std::int64_t last, std::int64_t length,
+  // False, as soon as a row holds a non-finite sample (that row and the rest of the range unwritten).
+  bool extract_range(const float* signals, std::int64_t first, std::int64_t last, std::int64_t length,
                      float* out) const;
 
   LogMelSettings settings_;

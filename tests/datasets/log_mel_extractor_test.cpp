@@ -173,6 +173,21 @@ TEST(LogMelExtractor, RejectsNonFiniteSamplesAndTooShortSignals) {
   EXPECT_THROW(extractor.extract(signals), DatasetError);
   FloatArray short_signal({1, 100});
   EXPECT_THROW(extractor.extract(short_signal), DatasetError);
+
+  // Rows are checked in the workers as they are copied; the error names the first bad sample of
+  // all, whichever worker met one first.
+  FloatArray rows({8, 500});
+  rows.values[6 * 500 + 7] = INFINITY;
+  rows.values[2 * 500 + 499] = -INFINITY;
+  rows.values[5 * 500 + 0] = std::nanf("");
+  for (const int threads : {1, 2, 4}) {
+    try {
+      extractor.extract(rows, threads);
+      ADD_FAILURE() << "accepted, " << threads << " threads";
+    } catch (const DatasetError& error) {
+      EXPECT_STREQ(error.what(), "signal row 2 sample 499 is -inf: finite values expected") << threads;
+    }
+  }
 }
 
 TEST(LogMelSettings, FrameCountsGiveThePapersInputShapes) {
