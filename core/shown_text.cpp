@@ -20,6 +20,13 @@ std::size_t utf8_length(std::string_view text, std::size_t at) {
 
 }  // namespace
 
+bool is_one_line(std::string_view text) {
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return false;
+  }
+  return true;
+}
+
 std::string shown_text(std::string_view text, std::size_t max_characters) {
   std::string out;
   std::size_t characters = 0;

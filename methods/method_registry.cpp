@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "core/shown_text.h"
 #include "methods/adbs/adbs_method.h"
 #include "methods/amfo/amfo_method.h"
 #include "methods/arp/arp_method.h"
@@ -100,8 +101,7 @@ void register_method(MethodEntry entry) {
     throw MethodError(fmt::format("register_method: '{}' is registered already", entry.name));
   }
   if (!entry.create) throw MethodError(fmt::format("register_method: '{}' has no create function", entry.name));
-  if (std::any_of(entry.table_note.begin(), entry.table_note.end(),
-                  [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+  if (!is_one_line(entry.table_note)) {
     throw MethodError(fmt::format("register_method: '{}' has a table_note of more than one line: a table's footnote "
                                   "is one line without control characters", entry.name));
   }

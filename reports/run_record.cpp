@@ -280,8 +280,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     record.git_commit = top.text("git_commit");
     record.dataset_key = top.text("dataset_key");
     record.method_note = top.text("method_note", "");
-    if (std::any_of(record.method_note.begin(), record.method_note.end(),
-                    [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+    if (!is_one_line(record.method_note)) {
       top.fail("method_note", "one line of text without control characters, found " + shown_text(record.method_note));
     }
     record.total_seconds = top.number("total_seconds", ValidRange::at_least(0));

@@ -21,5 +21,15 @@ TEST(ShownText, ALongFieldIsCutAfterEightyCharactersWithItsSize) {
   EXPECT_EQ(shown_text(std::string(100, '\x01')).size(), 80 * 4 + std::string("... (100 bytes in all)").size());
 }
 
+TEST(IsOneLine, RefusesEveryControlCharacterAndKeepsPrintableAndUtf8Text) {
+  EXPECT_TRUE(is_one_line("our reading of X: \\input{y} ~ ^ 100%"));
+  EXPECT_TRUE(is_one_line("caf\xC3\xA9"));
+  EXPECT_TRUE(is_one_line(""));
+  for (const char* text : {"two\nlines", "a\rb", "tab\there", "del\x7F", "bell\x07"}) {
+    EXPECT_FALSE(is_one_line(text)) << shown_text(text);
+  }
+  EXPECT_FALSE(is_one_line(std::string_view("nul\0byte", 8)));
+}
+
 }  // namespace
 }  // namespace fscil

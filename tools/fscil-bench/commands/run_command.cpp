@@ -721,10 +721,12 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     std::vector<int> removed;  // the classes removed by the session before this one
     for (int session = 0; session < run.sessions; ++session) {
       if (session > 0 && !schedule.plan.adds_classes(session)) ++run.removing_sessions;
-      const auto base_removed = std::count_if(removed.begin(), removed.end(), [&](int c) { return c < run.base_classes; });
+      const std::int64_t base_removed =
+          std::count_if(removed.begin(), removed.end(), [&](int c) { return c < run.base_classes; });
+      const std::int64_t novel_removed = static_cast<std::int64_t>(removed.size()) - base_removed;
       run.base_present_before.push_back(session > 0 ? run.base_classes - base_removed : 0);
       run.novel_present_before.push_back(
-          session > 0 ? schedule.plan.present_after(session - 1) - run.base_present_before.back() : 0);
+          session > 0 ? schedule.plan.seen_after(session - 1) - run.base_classes - novel_removed : 0);
       const int seen = schedule.plan.seen_after(session);
       removed = schedule.plan.removed_by(session);
       run.scored.push_back(std::count_if(scored.begin(), scored.end(), [&](std::int64_t segment) {
