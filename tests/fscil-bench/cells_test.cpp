@@ -94,6 +94,36 @@ TEST(Cli, PlanEstimatesEachCellWithSharedWorkCountedOnce) {
   EXPECT_GT(alone_seconds[2] / alone_seconds[0], seconds[2] / seconds[0]) << plan.output << alone.output;
 }
 
+// Issue 66 item 5: a plan over a folder of finished cells puts each estimate beside the time its
+// runs took (their result files' total seconds), and over those cells measured against estimated.
+TEST(Cli, PlanPutsTheMeasuredTimeOfFinishedCellsBesideTheEstimate) {
+  TemporaryDirectory folder;
+  const std::string data = "--methods prototype --dataset simtex-mini --no-cache --out " + (folder.path() / "runs").string();
+  const std::string command = data + " --profile smoke --threads 1";
+  ASSERT_EQ(run_cli(command + " --seeds 1 --quiet").exit_code, 0);
+  const CommandResult plan = run_cli("plan " + command + " --seeds 1-2");
+  ASSERT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("  estimate  measured\n"), std::string::npos) << plan.output;
+  // A line ending in a time is one measured; seed 2 has no result file, so its line ends in '-'.
+  ASSERT_EQ(estimates_in(plan.output).size(), 1u) << plan.output;
+  EXPECT_NE(plan.output.find("measured 0:"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find(" for the 1 of 2 cells whose result files --out holds"), std::string::npos) << plan.output;
+  EXPECT_NE(plan.output.find(": measured / estimated "), std::string::npos) << plan.output;
+
+  // Runs of another command are not this plan's measure: other threads, profile or split.
+  for (const std::string& other : {data + " --profile smoke --threads 2", data + " --profile fast --threads 1",
+                                   command + " --evaluate-on validation"}) {
+    const CommandResult another = run_cli("plan " + other + " --seeds 1-2 --no-estimate");
+    ASSERT_EQ(another.exit_code, 0) << another.output;
+    EXPECT_EQ(another.output.find("measured"), std::string::npos) << other << another.output;
+  }
+  // A result file that does not read is named, as report names it.
+  std::ofstream(folder.path() / "runs" / "results" / "prototype__simtex-mini__seed1.json") << "{}";
+  const CommandResult broken = run_cli("plan " + command + " --seeds 1 --no-estimate");
+  EXPECT_EQ(broken.exit_code, 1) << broken.output;
+  EXPECT_NE(broken.output.find("prototype__simtex-mini__seed1.json"), std::string::npos) << broken.output;
+}
+
 // Processes that keep every core of this machine busy while they live.
 class BusyCores {
  public:

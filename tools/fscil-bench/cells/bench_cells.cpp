@@ -23,6 +23,8 @@
 #include "tools/fscil-bench/commands/sweep_command.h"
 #include "tools/fscil-bench/options/sweep_grid.h"
 #include "core/number_text.h"
+#include "core/parallel_for.h"
+#include "core/text_file.h"
 
 namespace fscil {
 
@@ -123,27 +125,71 @@ bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
   });
 }
 
+void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cells) {
+  const int threads = thread_count(options.threads);
+  for (BenchCell& cell : cells) {
+    if (!cell_has_results(options, cell)) continue;
+    const RunOptions run = cell_run_options(options, cell);
+    double seconds = 0;
+    bool of_this_command = true;
+    for (const std::string& method : cell.methods) {
+      RunRecord name;
+      name.method = method;
+      name.dataset = cell.dataset;
+      name.seed = cell.seed;
+      const fs::path file = fs::path(run.out) / "results" / run_record_file_name(name);
+      const RunRecord record = run_record_from_json_text(read_text_file(file), file.string());
+      of_this_command = of_this_command && record.profile == options.profile && record.threads == threads &&
+                        record.evaluated_on == options.evaluate_on && record.selection == options.selection &&
+                        precision_of(record) == options.precision;
+      // A run continuing from a base another run of its cell trained counts only its sessions.
+      seconds += record.total_seconds;
+    }
+    if (of_this_command) cell.measured_seconds = seconds;
+  }
+}
+
 std::string render_plan(const std::vector<BenchCell>& cells) {
-  const bool estimated = std::any_of(cells.begin(), cells.end(), [](const BenchCell& cell) { return cell.estimated_seconds >= 0; });
-  const auto last_columns = [&](const std::string& cost, const std::string& estimate) {
-    return estimated ? fmt::format("{:<30}  {:>8}", cost, estimate) : cost;
+  const auto any = [&](auto has) { return std::any_of(cells.begin(), cells.end(), has); };
+  const bool estimated = any([](const BenchCell& cell) { return cell.estimated_seconds >= 0; });
+  const bool measured = any([](const BenchCell& cell) { return cell.measured_seconds >= 0; });
+  const auto shown = [](double seconds) { return seconds >= 0 ? clock_time(seconds) : std::string("-"); };
+  const auto last_columns = [&](const std::string& cost, const std::string& estimate, const std::string& took) {
+    std::string text = estimated || measured ? fmt::format("{:<30}  {:>8}", cost, estimate) : cost;
+    return measured ? fmt::format("{}  {:>8}", text, took) : text;
   };
   std::string text = fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {}\n", "cell", "methods", "dataset", "grid",
-                                 "seed", last_columns("cost", "estimate"));
-  double total = 0;
+                                 "seed", last_columns("cost", "estimate", "measured"));
+  double total = 0, measured_total = 0, estimated_of_measured = 0;
+  int measured_cells = 0;
   for (const auto& cell : cells) {
     text += fmt::format("{:>5}  {:<40}  {:<14}  {:<24}  {:>5}  {}", cell.index,
                         fmt::format("{}", fmt::join(cell.methods, ",")), cell.dataset,
                         cell.grid.empty() ? "-" : grid_cell_name(cell.grid), cell.seed,
                         last_columns(fmt::format("{} ({} base epochs)", cell.cost_class(), cell.epochs),
-                                     clock_time(cell.estimated_seconds)));
+                                     shown(cell.estimated_seconds), shown(cell.measured_seconds)));
     text += "\n";
     total += std::max(cell.estimated_seconds, 0.0);
+    if (cell.measured_seconds >= 0) {
+      ++measured_cells;
+      measured_total += cell.measured_seconds;
+      estimated_of_measured += std::max(cell.estimated_seconds, 0.0);
+    }
   }
   text += fmt::format("{} cells; run one with --cell K, all with run-cells --jobs J or fscil-bench slurm\n", cells.size());
   if (estimated) {
     text += fmt::format("estimated {} for all cells one after another on this machine (training and scoring at "
                         "rates measured here; not the dataset's preparation)\n", clock_time(total));
+  }
+  if (measured) {
+    text += fmt::format("measured {} for the {} of {} cells whose result files --out holds (their runs' total "
+                        "seconds, on the machine and load they ran with)", clock_time(measured_total), measured_cells,
+                        cells.size());
+    if (estimated && estimated_of_measured > 0) {
+      text += fmt::format(", estimated {} for them: measured / estimated {:.2f}", clock_time(estimated_of_measured),
+                          measured_total / estimated_of_measured);
+    }
+    text += "\n";
   }
   return text;
 }

@@ -25,6 +25,9 @@ struct BenchCell {
   std::int64_t epochs = 0;
   std::string cost_class() const;  // small (up to 12) | medium (up to 60) | large
   double estimated_seconds = -1;   // on this machine (cells/time_estimate.h); -1: not estimated
+  // What its runs took: the total_seconds of their result files in --out; -1 while one is missing
+  // or of another command (profile, threads, split, selection or precision).
+  double measured_seconds = -1;
 };
 
 // The parameters `method` reads in the command `options` describes (dataset defaults, profile,
@@ -44,8 +47,13 @@ RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell);
 // Whether every run of the cell has its result file.
 bool cell_has_results(const RunOptions& options, const BenchCell& cell);
 
+// Fills measured_seconds of every cell whose result files --out holds, so that `plan` puts each
+// estimate beside the time the cell took. A result file that does not read is an error.
+void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cells);
+
 // `fscil-bench plan`: one line per cell (index, methods, dataset, grid cell, seed, cost class,
-// and the estimated time where cells have one), then the count and the estimated total.
+// the estimated time where cells have one, and the measured time where --out has their results),
+// then the count, the estimated total and, over the cells measured, measured against estimated.
 std::string render_plan(const std::vector<BenchCell>& cells);
 // Seconds as H:MM:SS, rounded up (as Slurm's --time takes it).
 std::string clock_time(double seconds);

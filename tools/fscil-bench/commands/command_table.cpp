@@ -140,6 +140,7 @@ class PlanCommand : public CellsCommand {
         fmt::print(stderr, "fscil-bench plan: no time estimate: {}\n", error.what());
       }
     }
+    if (!missing_only_) add_measured_seconds(invocation.run, cells);  // those cells are not listed then
     int status = exit_status::success;
     if (missing_only_) {
       cells.erase(std::remove_if(cells.begin(), cells.end(),
