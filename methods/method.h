@@ -77,6 +77,21 @@ class StageStore {
   virtual void store(const std::string& stage, TrainedStage trained) = 0;
 };
 
+// Where a run keeps the progress of its base session's long stages, so that a run stopped within
+// one (the end of a working session, a Slurm time limit) continues from the last epoch kept,
+// exactly as if it had not stopped (methods/common/stage_progress.h says what a stage keeps;
+// the runner keeps it beside the run's checkpoint and reads it back only under --resume).
+class StageProgressStore {
+ public:
+  virtual ~StageProgressStore() = default;
+  // The progress last kept of `stage` in this run, if any.
+  virtual std::optional<TrainedStage> find(const std::string& stage) = 0;
+  // Whether it is time to keep progress again: keeping writes the model, so it happens every few
+  // minutes, not every epoch.
+  virtual bool due() const = 0;
+  virtual void store(const std::string& stage, const TrainedStage& progress) = 0;
+};
+
 struct RunContext {
   std::uint64_t seed = 0;
   std::mt19937_64 generator;
@@ -114,6 +129,8 @@ struct RunContext {
   Stopwatch session_clock;  // restarted by the runner when a session begins; the session's train time
   // Stages shared between methods (null: none; a method then trains every stage itself).
   StageStore* stages = nullptr;
+  // Where long base stages keep their progress (null: nowhere; a stage then starts from epoch 1).
+  StageProgressStore* stage_progress = nullptr;
 
   // Logs a finished epoch (1-based, of `epochs`) with its mean "loss" and any other values, shows
   // it as progress, and throws StopRequested when a stop was asked (core/stop_request.h). A loss

@@ -81,6 +81,23 @@ std::string serialize(const RunCheckpoint& checkpoint) {
 
 }  // namespace
 
+RunCheckpoint checkpoint_of_stage(const TrainedStage& stage, std::string identity, double elapsed_seconds) {
+  SessionOutcome outcome;
+  outcome.train_seconds = stage.seconds;
+  outcome.diagnostics = stage.diagnostics;
+  outcome.training_log = stage.training_log;
+  return {std::move(identity), {outcome}, elapsed_seconds, stage.state, stage.generator, stage.torch_random_state};
+}
+
+TrainedStage stage_of_checkpoint(RunCheckpoint checkpoint) {
+  if (checkpoint.outcomes.size() != 1) {
+    throw ProtocolError(fmt::format("a stage's checkpoint holds one session, this one {}", checkpoint.outcomes.size()));
+  }
+  SessionOutcome& outcome = checkpoint.outcomes.front();
+  return {std::move(checkpoint.method_state), checkpoint.generator, checkpoint.torch_random_state,
+          std::move(outcome.training_log), std::move(outcome.diagnostics), outcome.train_seconds};
+}
+
 void save_checkpoint(const fs::path& path, const RunCheckpoint& checkpoint) {
   const std::string body = serialize(checkpoint);
   write_file_atomically(path, fmt::format("{}\n{} {}\n", kMagic, body.size(), stable_hash(body)) + body);

@@ -20,6 +20,11 @@ struct RunCheckpoint {
   torch::Tensor torch_random_state;
 };
 
+// A stage of a base session (a shared stage, or one in progress) as a checkpoint file holds it: its
+// training log, diagnostics and clock as the one session's outcome, `elapsed_seconds` the run's.
+RunCheckpoint checkpoint_of_stage(const TrainedStage& stage, std::string identity, double elapsed_seconds);
+TrainedStage stage_of_checkpoint(RunCheckpoint checkpoint);
+
 // Written to a temporary name and renamed; the file carries its length and a digest of its
 // contents, so a truncated or altered file is recognised.
 void save_checkpoint(const std::filesystem::path& path, const RunCheckpoint& checkpoint);

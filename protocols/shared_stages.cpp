@@ -7,25 +7,6 @@
 
 namespace fscil {
 
-namespace {
-
-// A stage as the stage cache files it: a run checkpoint of the base session's stage.
-RunCheckpoint checkpoint_of(const TrainedStage& stage) {
-  SessionOutcome outcome;
-  outcome.train_seconds = stage.seconds;
-  outcome.diagnostics = stage.diagnostics;
-  outcome.training_log = stage.training_log;
-  return {{}, {outcome}, stage.seconds, stage.state, stage.generator, stage.torch_random_state};
-}
-
-TrainedStage stage_of(RunCheckpoint checkpoint) {
-  SessionOutcome& outcome = checkpoint.outcomes.front();
-  return {std::move(checkpoint.method_state), checkpoint.generator, checkpoint.torch_random_state,
-          std::move(outcome.training_log), std::move(outcome.diagnostics), outcome.train_seconds};
-}
-
-}  // namespace
-
 std::optional<SharedStages::Found> SharedStages::find(const std::string& identity, ProgressReporter* progress) {
   if (const auto kept = kept_.find(identity); kept != kept_.end()) {
     return Found{kept->second.first, "shared with " + kept->second.second};
@@ -42,14 +23,14 @@ std::optional<SharedStages::Found> SharedStages::find(const std::string& identit
   if (!dropped.empty()) note(fmt::format("stage cache entry dropped, the stage is trained again: {}", dropped));
   if (claim && !cached) claims_.emplace(identity, std::move(*claim));
   if (!cached) return std::nullopt;
-  return Found{stage_of(std::move(*cached)), "from the stage cache"};
+  return Found{stage_of_checkpoint(std::move(*cached)), "from the stage cache"};
 }
 
 void SharedStages::store(const std::string& identity, TrainedStage stage, const std::string& trained_by,
                          ProgressReporter* progress) {
   if (cache_) {
     try {
-      cache_->store(identity, checkpoint_of(stage));
+      cache_->store(identity, checkpoint_of_stage(stage, {}, stage.seconds));
     } catch (const std::exception& error) {
       if (progress != nullptr) progress->note(fmt::format("stage cache not written: {}", error.what()));
     }

@@ -4,6 +4,8 @@
 #include <map>
 #include <string>
 
+#include "methods/common/module_state.h"
+
 namespace fscil {
 
 // A training step's loss in its two parts: the classification loss and a method's side loss
@@ -26,6 +28,20 @@ class LossPartMeans {
     if (steps_ == 0) return;
     diagnostics[stage + "_ce_mean"] = classification_ / steps_;
     if (has_side_) diagnostics[stage + "_side_loss_mean"] = side_ / steps_;
+  }
+  // The sums so far into `state` under `key`, and back (a stage continued by another process of
+  // its run: stage_progress.h); doubles, so the means come out to the bit.
+  void save_into(MethodState& state, const std::string& key) const {
+    state[key] = torch::tensor({classification_, side_, static_cast<double>(steps_), has_side_ ? 1.0 : 0.0}, torch::kDouble);
+  }
+  void restore_from(const MethodState& state, const std::string& key) {
+    const torch::Tensor sums = take(state, key).to(torch::kDouble).contiguous();
+    if (sums.numel() != 4) throw MethodError("state '" + key + "': expected the 4 sums of a stage's loss means");
+    const double* value = sums.data_ptr<double>();
+    classification_ = value[0];
+    side_ = value[1];
+    steps_ = static_cast<int>(value[2]);
+    has_side_ = value[3] != 0;
   }
   // `ce` and, with a side loss, `side_loss`: an epoch's terms in the training log.
   void record_terms(std::map<std::string, double>& values) const {

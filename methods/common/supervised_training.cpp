@@ -13,9 +13,9 @@ namespace fscil {
 
 SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params, const SupervisedSchedule& defaults) {
   SupervisedSchedule schedule = defaults;
-  schedule.epochs = static_cast<int>(params.integer("pretrain_epochs", schedule.epochs, ValidRange::at_least(0)));
+  schedule.epochs = params.count("pretrain_epochs", schedule.epochs, ValidRange::at_least(0));
   schedule.learning_rate = params.real("pretrain_lr", schedule.learning_rate, ValidRange::above(0));
-  schedule.batch_size = static_cast<int>(params.integer("batch_size", schedule.batch_size, ValidRange::at_least(2)));
+  schedule.batch_size = params.count("batch_size", schedule.batch_size, ValidRange::at_least(2));
   schedule.momentum = params.real("momentum", schedule.momentum, ValidRange::from_up_to(0, 1));
   schedule.weight_decay = params.real("weight_decay", schedule.weight_decay, ValidRange::at_least(0));
   schedule.decay = named_choice(params, "lr_decay", schedule.decay,
@@ -23,7 +23,7 @@ SupervisedSchedule SupervisedSchedule::from(const ParameterSet& params, const Su
   schedule.stop_when_converged =
       named_choice(params, "base_stop", schedule.stop_when_converged, {{"schedule", false}, {"converged", true}});
   if (schedule.decay == LearningRateDecay::step) {
-    schedule.lr_step = static_cast<int>(params.integer("lr_step", schedule.lr_step, ValidRange::at_least(1)));
+    schedule.lr_step = params.count("lr_step", schedule.lr_step, ValidRange::at_least(1));
     schedule.lr_gamma = params.real("lr_gamma", schedule.lr_gamma, ValidRange::above_up_to(0, 1));
   }
   return schedule;
@@ -66,21 +66,27 @@ bool stop_once_levelled_off(bool may_stop, RunContext& context, const std::strin
 
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
-                    const std::function<void(int)>& after_epoch) {
-  return train_epochs_while(parameters, batch_loss, data, schedule, context, phase, [&](int epoch) {
-    if (after_epoch) after_epoch(epoch);
-    return true;
-  });
+                    const std::function<void(int)>& after_epoch, const StageKeeping& keeping) {
+  return train_epochs_while(
+      parameters, batch_loss, data, schedule, context, phase,
+      [&](int epoch) {
+        if (after_epoch) after_epoch(epoch);
+        return true;
+      },
+      keeping);
 }
 
 double train_epochs_while(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss,
                           const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
-                          const std::string& phase, const std::function<bool(int)>& keep_going) {
+                          const std::string& phase, const std::function<bool(int)>& keep_going,
+                          const StageKeeping& keeping) {
   torch::optim::SGD optimizer = make_schedule_sgd(parameters, schedule);
   const std::int64_t samples = data.features.count();
   const std::int64_t steps_per_epoch = (samples + schedule.batch_size - 1) / schedule.batch_size;
-  double last_loss = 0;
-  for (int epoch = 0; epoch < schedule.epochs; ++epoch) {
+  const StageResumption resumed = resume_stage(phase, keeping, optimizer, context);
+  if (resumed.finished) return resumed.last_loss;
+  double last_loss = resumed.last_loss;
+  for (int epoch = resumed.epochs_done; epoch < schedule.epochs; ++epoch) {
     double loss_sum = 0;
     std::int64_t batches = 0;
     for (const torch::Tensor& index : shuffled_batches(samples, schedule.batch_size, context.generator)) {
@@ -98,8 +104,10 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
     last_loss = batches > 0 ? loss_sum / batches : 0.0;
     context.log_epoch(phase, epoch + 1, schedule.epochs,
                       {{"loss", last_loss}, {"lr", optimizer.param_groups().front().options().get_lr()}});
-    if (!keep_going(epoch + 1)) break;
-    if (stop_once_levelled_off(schedule, context, phase, epoch + 1)) break;
+    const bool ends = !keep_going(epoch + 1) || stop_once_levelled_off(schedule, context, phase, epoch + 1) ||
+                      epoch + 1 == schedule.epochs;
+    keep_stage_progress(phase, keeping, optimizer, {epoch + 1, ends, last_loss}, context);
+    if (ends) break;
   }
   return last_loss;
 }

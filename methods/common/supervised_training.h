@@ -5,6 +5,7 @@
 
 #include "methods/common/cosine_classifier.h"
 #include "methods/common/resnet18.h"
+#include "methods/common/stage_progress.h"
 #include "methods/method.h"
 #include "methods/method_registry.h"
 
@@ -80,15 +81,18 @@ using BatchLoss = std::function<torch::Tensor(const torch::Tensor& features, con
 // minimising `batch_loss` over `parameters`. Modules must already be in the wanted mode. Each
 // epoch is logged (RunContext::log_epoch), then `after_epoch` is called with its 1-based number.
 // Under stop_when_converged the stage ends once the base validation `after_epoch` records has
-// converged (diagnostic `<phase>_converged_epoch`). Returns the mean loss of the last epoch.
+// converged (diagnostic `<phase>_converged_epoch`). With a `keeping`, the stage keeps its progress
+// and continues from what an earlier process of the run kept (stage_progress.h). Returns the mean
+// loss of the last epoch.
 double train_epochs(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss, const SessionData& data,
                     const SupervisedSchedule& schedule, RunContext& context, const std::string& phase,
-                    const std::function<void(int)>& after_epoch = {});
+                    const std::function<void(int)>& after_epoch = {}, const StageKeeping& keeping = {});
 // The same, stopping early once `keep_going` (called after each epoch with its 1-based number, in
 // place of `after_epoch`) returns false: the schedule's later epochs are then never run.
 double train_epochs_while(const std::vector<torch::Tensor>& parameters, const BatchLoss& batch_loss,
                           const SessionData& data, const SupervisedSchedule& schedule, RunContext& context,
-                          const std::string& phase, const std::function<bool(int)>& keep_going);
+                          const std::string& phase, const std::function<bool(int)>& keep_going,
+                          const StageKeeping& keeping = {});
 
 // Cross-entropy training of encoder + cosine classifier on the classes [0, classes) of `data`.
 // Returns the mean loss of the last epoch.

@@ -94,11 +94,14 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
     return parts_of(embedded, plan.kept_fraction * F::cross_entropy(logits, labels) +
                                   (1 - plan.kept_fraction) * F::cross_entropy(logits, partner_labels));
   };
-  train_epochs(parameters, loss, base, settings_.pretrain, context, "pretrain", [&](int epoch) {
-    epoch_means.record_terms(context.training_log.back().values);
-    epoch_means = LossPartMeans();
-    consider_epoch(best, "pretraining", epoch, context);
-  });
+  train_epochs(
+      parameters, loss, base, settings_.pretrain, context, "pretrain",
+      [&](int epoch) {
+        epoch_means.record_terms(context.training_log.back().values);
+        epoch_means = LossPartMeans();
+        consider_epoch(best, "pretraining", epoch, context);
+      },
+      stage_keeping(means));
   best.restore(context, "pretraining");
   means.record(context.diagnostics, "pretraining");
 }
@@ -119,6 +122,22 @@ void PitsScMethod::share_pretraining(RunContext& context) {
   TrainedStage stage = file_stage(context, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}});
   context_bank().save_into(stage.state, "context_bank.");
   context.stages->store(kPretrainingStage, std::move(stage));
+}
+
+StageKeeping PitsScMethod::stage_keeping(LossPartMeans& means) {
+  StageKeeping keeping;
+  keeping.modules = {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}};
+  int extra = 0;
+  for (auto* module : extra_trained_modules()) keeping.modules.emplace_back(fmt::format("extra{}.", extra++), module);
+  keeping.save_more = [this, &means](MethodState& state) {
+    context_bank().save_into(state, "context_bank.");
+    means.save_into(state, "loss_means");
+  };
+  keeping.take_more = [this, &means](const MethodState& state) {
+    context_bank().restore_from(state, "context_bank.");
+    means.restore_from(state, "loss_means");
+  };
+  return keeping;
 }
 
 std::vector<torch::nn::Module*> PitsScMethod::selected_modules() {
@@ -145,7 +164,9 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
   torch::optim::SGD optimizer = make_schedule_sgd(parameters, settings_.pit);
   encoder_->train();
   classifier_->train();
-  for (int epoch = 0; epoch < settings_.pit.epochs; ++epoch) {
+  const StageKeeping keeping = stage_keeping(means);
+  const StageResumption resumed = resume_stage("pseudo-incremental", keeping, optimizer, context);
+  for (int epoch = resumed.epochs_done; !resumed.finished && epoch < settings_.pit.epochs; ++epoch) {
     // Once per epoch: the pseudo-incremental stage decays by epoch (a cosine, too, by epoch).
     set_learning_rate(optimizer, settings_.pit, epoch, 0, 1);
     double loss_sum = 0;
@@ -172,7 +193,10 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
     context.log_epoch("pseudo-incremental", epoch + 1, settings_.pit.epochs, std::move(values));
     consider_epoch(best, "pseudo_incremental", epoch + 1, context);
     // The same stop as the pretraining's (base_stop=converged), `pit_epochs` its cap.
-    if (stop_once_levelled_off(settings_.pit, context, "pseudo-incremental", epoch + 1)) break;
+    const bool ends = stop_once_levelled_off(settings_.pit, context, "pseudo-incremental", epoch + 1) ||
+                      epoch + 1 == settings_.pit.epochs;
+    keep_stage_progress("pseudo-incremental", keeping, optimizer, {epoch + 1, ends, 0}, context);
+    if (ends) break;
   }
   best.restore(context, "pseudo_incremental");
   means.record(context.diagnostics, "pseudo_incremental");

@@ -3,6 +3,7 @@
 
 #include "methods/common/context_statistics.h"
 #include "methods/common/resnet18.h"
+#include "methods/common/stage_progress.h"
 #include "methods/common/stochastic_classifier.h"
 #include "methods/method.h"
 #include "methods/method_registry.h"
@@ -92,6 +93,9 @@ class PitsScMethod : public Method {
   void train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context);
   // The modules a stage's kept epoch (RunContext::selection) is a state of.
   std::vector<torch::nn::Module*> selected_modules();
+  // What its base stages keep for a run continued by another process (stage_progress.h): the
+  // trained modules, the context statistic bank and the stage's loss means `means`.
+  StageKeeping stage_keeping(LossPartMeans& means);
   // Scores the epoch just logged on RunContext::base_selection_data (top-1 over the base classes
   // with the classifier as trained) and keeps it when best; nothing when the last epoch is kept.
   void consider_epoch(BestEpoch& best, const std::string& stage, int epoch, RunContext& context);

@@ -134,6 +134,62 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
   EXPECT_FALSE(std::filesystem::exists(out.path() / "results" / "cop-fscil__simtex-mini__seed2.json"));
 }
 
+// Every line of a result file but its times and memory: scores, diagnostics, the training log.
+std::string all_but_times(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, kept;
+  while (std::getline(in, line)) {
+    if (line.find("seconds") == std::string::npos && line.find("resident") == std::string::npos) kept += line + "\n";
+  }
+  return kept;
+}
+
+// Starts `command` in the background and kills it (SIGKILL) once `file` exists.
+void kill_once_written(const std::string& command, const std::filesystem::path& file) {
+  const std::string script = fmt::format(
+      "{} > /dev/null 2>&1 & pid=$!; for i in $(seq 30000); do [ -f {} ] && break; kill -0 $pid || break; "
+      "sleep 0.01; done; kill -KILL $pid; wait $pid",
+      command, file.string());
+  std::system(("bash -c '" + script + "' 2> /dev/null").c_str());  // not bash's note of the kill
+}
+
+// A long base stage keeps its progress (FSCIL_BENCH_KEEP_PROGRESS_SECONDS=0: every epoch), so a run
+// killed within its pretraining, and again within its pseudo-incremental stage, continues each time
+// from the last epoch kept, to a result file identical to an uninterrupted run's but for its times:
+// scores, diagnostics and every epoch of the training log. The PCQA variant keeps its adapter too.
+TEST(Cli, ARunKilledWithinItsBaseStagesContinuesFromTheLastKeptEpochToTheSameResult) {
+  TemporaryDirectory folder;
+  const std::string options = " --methods cop-fscil/cpi+pcqa --dataset simtex-mini --profile smoke --threads 1 "
+                              "--no-cache --set pit_epochs=3";
+  const std::string keep_every_epoch = "FSCIL_BENCH_KEEP_PROGRESS_SECONDS=0 ";
+  const auto killed = folder.path() / "killed";
+  const auto progress = killed / "checkpoints" / "cop-fscil_cpi_pcqa__simtex-mini__seed1.progress";
+  const auto result = killed / "results" / "cop-fscil_cpi_pcqa__simtex-mini__seed1.json";
+
+  kill_once_written(keep_every_epoch + built_program() + options + " --out " + killed.string(), progress / "pretrain.ckpt");
+  ASSERT_TRUE(std::filesystem::exists(progress / "pretrain.ckpt"));
+  ASSERT_FALSE(std::filesystem::exists(progress / "pseudo-incremental.ckpt")) << "killed after the pretraining";
+  kill_once_written(keep_every_epoch + built_program() + options + " --resume " + killed.string(),
+                    progress / "pseudo-incremental.ckpt");
+  ASSERT_FALSE(std::filesystem::exists(result)) << "the run finished before it was killed";
+  const CommandResult resumed = run_cli(options + " --resume " + killed.string(), keep_every_epoch);
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("pretrain: continuing after epoch 3, kept by an earlier process of this run"),
+            std::string::npos) << resumed.output;
+  EXPECT_NE(resumed.output.find("pseudo-incremental: continuing after epoch "), std::string::npos) << resumed.output;
+  EXPECT_FALSE(std::filesystem::exists(progress)) << "a finished base leaves no progress behind";
+
+  const CommandResult whole = run_cli(options + " --quiet --out " + (folder.path() / "whole").string());
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const std::string expected = all_but_times(folder.path() / "whole" / "results" / result.filename());
+  EXPECT_NE(expected.find("\"stage\": \"pseudo-incremental\""), std::string::npos) << expected;
+  EXPECT_EQ(all_but_times(result), expected);
+
+  expect_one_error_line(run_cli(options + " --out " + (folder.path() / "other").string(),
+                                "FSCIL_BENCH_KEEP_PROGRESS_SECONDS=soon"),
+                        "FSCIL_BENCH_KEEP_PROGRESS_SECONDS='soon': expected seconds between two keepings");
+}
+
 TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
   TemporaryDirectory folder;
   const std::string options = " --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --no-cache --quiet";

@@ -1,6 +1,7 @@
 // Checkpoints at session boundaries: a method restored from save_state() continues exactly.
 #include <gtest/gtest.h>
 
+#include "methods/common/stage_progress.h"
 #include "methods/common/torch_random_state.h"
 #include "methods/method_registry.h"
 #include "tests/methods/tiny_base_session.h"
@@ -74,6 +75,42 @@ TEST(MethodStateFit, AStateOfAnotherMethodIsRefused) {
   } catch (const MethodError& error) {
     EXPECT_NE(std::string(error.what()).find("state has no 'adapter."), std::string::npos) << error.what();
   }
+}
+
+// A stage continued by another process (stage_progress.h) takes its optimiser's momentum back: the
+// next Nesterov step is then the one the first optimiser would have taken, to the bit.
+TEST(StageProgress, MomentumTakenBackGivesTheSameNextStep) {
+  torch::manual_seed(3);
+  const torch::Tensor start = torch::randn({4, 3});
+  const auto step = [](torch::optim::SGD& optimizer, const torch::Tensor& weight) {
+    optimizer.zero_grad();
+    (weight * weight).sum().backward();
+    optimizer.step();
+  };
+  const auto sgd = [](const torch::Tensor& weight) {
+    return torch::optim::SGD({weight}, torch::optim::SGDOptions(0.1).momentum(0.9).nesterov(true));
+  };
+  torch::Tensor weight = start.clone().requires_grad_(true);
+  torch::optim::SGD first = sgd(weight);
+  step(first, weight);
+  step(first, weight);
+  fscil::MethodState state;
+  put_momentum(state, "m.", first);
+  ASSERT_EQ(state.size(), 1u);
+  torch::Tensor continued = weight.detach().clone().requires_grad_(true);
+  torch::Tensor fresh = weight.detach().clone().requires_grad_(true);
+  torch::optim::SGD second = sgd(continued);
+  take_momentum(state, "m.", second);
+  torch::optim::SGD without = sgd(fresh);
+  step(first, weight);
+  step(second, continued);
+  step(without, fresh);
+  EXPECT_TRUE(torch::equal(weight, continued));
+  EXPECT_FALSE(torch::equal(weight, fresh)) << "a step without the momentum differs: the test can fail";
+
+  state["m.0"] = torch::zeros({2});
+  torch::optim::SGD misfit = sgd(continued);
+  EXPECT_THROW(take_momentum(state, "m.", misfit), MethodError);
 }
 
 }  // namespace

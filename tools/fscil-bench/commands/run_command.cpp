@@ -27,6 +27,7 @@
 #include "tools/fscil-bench/options/run_option_table.h"
 #include "protocols/protocol_runner.h"
 #include "protocols/run_checkpoint.h"
+#include "protocols/stage_progress_files.h"
 #include "protocols/saved_model.h"
 #include "protocols/shared_stages.h"
 #include "protocols/stage_cache.h"
@@ -200,6 +201,7 @@ struct CommandPlan {
   std::function<bool(int)> save_session;   // --save-embeddings
   // The values runs of one table must share (RunRecord::protocol_parameters).
   std::map<std::string, std::string> protocol_parameters;
+  double stage_progress_interval = 0;  // seconds between two keepings of a base stage's progress
 };
 
 Precision chosen_precision(const RunOptions& options) {
@@ -255,6 +257,7 @@ CommandPlan plan_command(const RunOptions& options, ProgressReporter& progress) 
   // Activation recomputation: less memory, more time, the same numbers (ResNet18Options).
   plan.recompute_activations = plan.protocol_params.choice("recompute", "none", {"none", "stages"}) == "stages";
   plan.precision = chosen_precision(options);
+  plan.stage_progress_interval = stage_progress_interval();
   plan.evaluation = parse_evaluation_split(options.evaluate_on);
   plan.selection = options.selection == "validation"    ? EpochSelection::validation
                    : options.selection == "test-oracle" ? EpochSelection::test_oracle
@@ -406,6 +409,7 @@ struct RunInProgress {
   std::string base_key;       // MethodEntry::shared_base_key
   std::string base_identity;  // the stage cache's key of its base; empty without the cache
   std::unique_ptr<RunStages> stages;  // RunContext::stages
+  std::unique_ptr<StageProgressFiles> stage_progress;  // RunContext::stage_progress
   std::optional<InheritedBase> inherited_base;
   std::string base_trained_by;
   bool base_from_cache = false;
@@ -537,6 +541,7 @@ void checkpoint_after_each_session(const CommandRuns& runs, RunInProgress& run, 
     RunCheckpoint now{run.identity, so_far, run.seconds_before + run.clock.seconds(), run.method->save_state(),
                       run.context.generator, torch_random_state()};
     save_checkpoint(run.checkpoint_file, now);
+    if (so_far.size() == 1) run.stage_progress->clear();  // the checkpoint holds the whole base session now
     if (so_far.size() != 1 || !runs.stage_caching() || run.base_from_cache) return;
     std::optional<FileLock> claim;  // let go once the base is filed, or found not to be filed
     claim.swap(run.base_claim);
@@ -651,6 +656,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
     runs.records.push_back(*done);
     std::error_code ignored;
     fs::remove(run.checkpoint_file, ignored);
+    fs::remove_all(stage_progress_folder(run.checkpoint_file), ignored);
     return;
   }
   seed_run(run);
@@ -671,6 +677,13 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
       [&](const std::string& stage) { return shared_stage_identity_of(options, plan, runs, run, stage); },
       run.method_name, &progress);
   run.context.stages = run.stages.get();
+  // A stage stopped within (a session's end, a time limit) continues from its last kept epoch.
+  run.stage_progress = std::make_unique<StageProgressFiles>(
+      stage_progress_folder(run.checkpoint_file), run.identity, options.resume, plan.stage_progress_interval,
+      [&run] { return run.seconds_before + run.clock.seconds(); },
+      [&run](double elapsed) { run.seconds_before = elapsed - run.clock.seconds(); });
+  if (!options.resume) run.stage_progress->clear();  // an earlier command's, never continued without --resume
+  run.context.stage_progress = run.stage_progress.get();
   choose_base(options, plan, runs, run, progress);
   checkpoint_after_each_session(runs, run, progress);
   const auto outcomes = run_the_sessions(options, plan, runs.commit, run);
