@@ -57,6 +57,10 @@ bool fits_whole_number(const nlohmann::json& value, T least) {
 template <typename E>
 nlohmann::json parse_json_object(const std::string& text, const std::string& origin) {
   nlohmann::json document;
+  if (json_nests_deeper_than(text, kDeepestJson)) {
+    throw E(fmt::format("{}: arrays and objects nested more than {} deep, expected a fscil-bench file", origin,
+                        kDeepestJson));
+  }
   try {
     document = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& error) {

@@ -93,6 +93,15 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
   return *parsed;
 }
 
+int ParameterSet::count(const std::string& key, int fallback, const ValidRange& valid) const {
+  const std::int64_t value = integer(key, fallback, valid);
+  if (value > std::numeric_limits<int>::max() || value < std::numeric_limits<int>::min()) {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {} and at most {}", key, value,
+                                    valid.describe(), std::numeric_limits<int>::max()));
+  }
+  return static_cast<int>(value);
+}
+
 bool ParameterSet::flag(const std::string& key, bool fallback) const {
   const std::string* value = lookup(key);
   if (value == nullptr) {

@@ -25,6 +25,9 @@ class ParameterSet {
   // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key.
   double real(const std::string& key, double fallback, const ValidRange& valid) const;
   std::int64_t integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const;
+  // integer() for what an int holds (epochs, sizes, counts): a value beyond int's range is refused,
+  // never wrapped.
+  int count(const std::string& key, int fallback, const ValidRange& valid) const;
   bool flag(const std::string& key, bool fallback) const;
   std::string text(const std::string& key, const std::string& fallback) const;
   // text() restricted to a list of allowed values.

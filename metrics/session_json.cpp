@@ -61,12 +61,17 @@ double field_of(const SessionField& field, const json& value, const std::string&
       }
       return value.get<double>();
     case Kind::seconds:
-      if (!value.is_number() || !(value.get<double>() >= 0)) {
-        throw Error(fmt::format("{}: {} {}, expected a number of seconds >= 0", origin, field.key,
-                                shown_text(value.dump())));
+      if (!value.is_number() || !(value.get<double>() >= 0 && value.get<double>() <= kMostSeconds)) {
+        throw Error(fmt::format("{}: {} {}, expected a number of seconds in [0, {:g}]", origin, field.key,
+                                shown_text(value.dump()), kMostSeconds));
       }
       return value.get<double>();
-    case Kind::ratio: return number_of(value, field.key, origin);
+    case Kind::ratio: {
+      // A dispersion ratio: unknown (NaN), or a ratio of two spreads, never below 0.
+      const double ratio = number_of(value, field.key, origin);
+      if (ratio < 0) throw Error(fmt::format("{}: {} {}, expected a ratio >= 0 or null", origin, field.key, ratio));
+      return ratio;
+    }
   }
   return 0;
 }
@@ -79,6 +84,13 @@ void require_percentages(const SessionOutcome& session, const std::string& origi
       throw Error(fmt::format("{}: session {} has an accuracy of {}, expected percentages in [0, 100]", origin,
                               session.session, percent));
     }
+  }
+  // The joint accuracy weighs the base and the novel classes' samples: it lies between theirs.
+  const SessionAccuracy& scored = session.accuracy;
+  const double low = std::min(scored.base, scored.novel), high = std::max(scored.base, scored.novel);
+  if (session.session > 0 && (scored.all < low - 1e-6 || scored.all > high + 1e-6)) {
+    throw Error(fmt::format("{}: session {} has an accuracy of {} with base {} and novel {}, expected one between them",
+                            origin, session.session, scored.all, scored.base, scored.novel));
   }
 }
 

@@ -17,6 +17,9 @@ struct EpochLog {
   std::map<std::string, double> values;
 };
 
+// No run takes 31 years: a time above this in a result file or checkpoint is damage, not a measurement.
+inline constexpr double kMostSeconds = 1e9;
+
 // What the runner measured after one session.
 struct SessionOutcome {
   int session = 0;

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <array>
+#include <new>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string_view>
 
+#include "core/json_keys.h"
 #include "core/stable_hash.h"
 #include "core/error.h"
 #include "core/text_file.h"
@@ -128,7 +130,13 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
                                     shown_text(magic), kMagic));
   }
   if (magic != kMagic || !in || length > fs::file_size(path, size_error) || size_error) throw corrupt();
-  std::string body(length, '\0');
+  std::string body;
+  try {
+    body.resize(length);
+  } catch (const std::bad_alloc&) {  // a sparse file can claim more than the machine holds
+    throw ProtocolError(fmt::format("{}: a checkpoint of {} bytes, more than this machine can hold; delete it to "
+                                    "start that run over", path.string(), length));
+  }
   if (!in.read(body.data(), static_cast<std::streamsize>(length)) || in.peek() != std::char_traits<char>::eof() ||
       stable_hash(body) != digest) {
     throw corrupt();
@@ -150,7 +158,9 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
                                       checkpoint.identity, expected_identity));
     }
     try {
-      checkpoint.outcomes = sessions_from_json(nlohmann::json::parse(tensor_text(read(archive, "sessions"))),
+      const std::string sessions = tensor_text(read(archive, "sessions"));
+      if (json_nests_deeper_than(sessions, kDeepestJson)) throw corrupt();
+      checkpoint.outcomes = sessions_from_json(nlohmann::json::parse(sessions),
                                                path.string() + ": corrupt checkpoint, session results");
     } catch (const nlohmann::json::exception& error) {
       throw ProtocolError(fmt::format("{}: corrupt checkpoint, session results: {}", path.string(), error.what()));

@@ -73,27 +73,29 @@ std::string describe_removal(const SessionPlan& plan) {
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
                               const ParameterSet& params, std::uint64_t seed) {
   SessionPlan plan;
-  plan.base_classes = static_cast<int>(params.integer("base_classes", defaults.base_classes, ValidRange::at_least(2)));
-  plan.way = static_cast<int>(params.integer("way", defaults.way, ValidRange::at_least(1)));
-  plan.shot = static_cast<int>(params.integer("shot", defaults.shot, ValidRange::at_least(1)));
-  plan.sessions = static_cast<int>(params.integer("sessions", defaults.sessions, ValidRange::at_least(1)));
+  plan.base_classes = params.count("base_classes", defaults.base_classes, ValidRange::at_least(2));
+  plan.way = params.count("way", defaults.way, ValidRange::at_least(1));
+  plan.shot = params.count("shot", defaults.shot, ValidRange::at_least(1));
+  plan.sessions = params.count("sessions", defaults.sessions, ValidRange::at_least(1));
   // Read only when given, so that add-only runs keep the identity they had before removal existed.
   if (params.contains("removal") &&
       params.choice("removal", "none", {"none", "fciac"}) == "fciac") {
     plan.removal = ClassRemoval::fciac;
-    plan.removed_base = static_cast<int>(params.integer("removed_base", plan.removed_base, ValidRange::at_least(0)));
+    plan.removed_base = params.count("removed_base", plan.removed_base, ValidRange::at_least(0));
     plan.removed_novel =
-        static_cast<int>(params.integer("removed_novel", plan.removed_novel, ValidRange::between(0, plan.way)));
+        params.count("removed_novel", plan.removed_novel, ValidRange::between(0, plan.way));
     const int removing = (plan.sessions - 1) / 2;
-    if (plan.removed_base * removing >= plan.base_classes) {
+    if (static_cast<std::int64_t>(plan.removed_base) * removing >= plan.base_classes) {
       throw ProtocolError(fmt::format("removal=fciac: {} removing sessions x removed_base={} would remove all {} base "
                                       "classes", removing, plan.removed_base, plan.base_classes));
     }
   }
-  if (plan.total_classes() > dataset_classes) {
+  // Counted in 64 bits: the plan's own int arithmetic is safe only for a plan that fits the data.
+  const std::int64_t adding = plan.adding_sessions_up_to(plan.sessions - 1);
+  const std::int64_t needed = plan.base_classes + static_cast<std::int64_t>(plan.way) * adding;
+  if (needed > dataset_classes) {
     throw ProtocolError(fmt::format("session plan needs {} classes ({} base + {} adding sessions x {}-way) but the "
-                                    "dataset has {}", plan.total_classes(), plan.base_classes,
-                                    plan.adding_sessions_up_to(plan.sessions - 1), plan.way, dataset_classes));
+                                    "dataset has {}", needed, plan.base_classes, adding, plan.way, dataset_classes));
   }
   std::vector<int> order(dataset_classes);
   std::iota(order.begin(), order.end(), 0);

@@ -283,7 +283,7 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
     if (!is_one_line(record.method_note)) {
       top.fail("method_note", "one line of text without control characters, found " + shown_text(record.method_note));
     }
-    record.total_seconds = top.number("total_seconds", ValidRange::at_least(0));
+    record.total_seconds = top.number("total_seconds", ValidRange::between(0, kMostSeconds));
     record.peak_resident_bytes = top.whole<std::int64_t>("peak_resident_bytes", 0);
     if (top.has("resident_at_start_bytes")) {
       record.resident_at_start_bytes = top.whole<std::int64_t>("resident_at_start_bytes", 0);
@@ -307,7 +307,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       record.inference.macs = inference.whole<std::int64_t>("macs", 0);
       record.inference.parameters = inference.whole<std::int64_t>("parameters", 0);
       record.inference.trainable_parameters = inference.whole<std::int64_t>("trainable_parameters", 0);
-      record.inference.seconds_per_sample = inference.number("seconds_per_sample", ValidRange::at_least(0));
+      record.inference.seconds_per_sample =
+          inference.number("seconds_per_sample", ValidRange::between(0, kMostSeconds));
       record.inference.batch = inference.whole<std::int64_t>("batch", 0);
     }
     record.sessions = sessions_from_json(top.at("sessions", "a list of sessions"), origin);

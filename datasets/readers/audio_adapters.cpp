@@ -4,9 +4,11 @@
 
 #include <fstream>
 #include <map>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_fields.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "datasets/readers/wav_file.h"
@@ -130,11 +132,16 @@ DatasetScan scan_ns100(const fs::path& root) {
   std::ifstream vocab_file(vocab_path);
   if (!vocab_file) throw DatasetError(fmt::format("{}: no such file, expected the instrument -> class map", vocab_path.string()));
   std::map<std::string, int> class_of;
+  const std::string vocab{std::istreambuf_iterator<char>(vocab_file), std::istreambuf_iterator<char>()};
+  if (json_nests_deeper_than(vocab, kDeepestJson)) {
+    throw DatasetError(fmt::format("{}: arrays and objects nested more than {} deep, expected a JSON object of "
+                                   "instrument: class index", vocab_path.string(), kDeepestJson));
+  }
   try {
-    class_of = nlohmann::json::parse(vocab_file).get<std::map<std::string, int>>();
+    class_of = nlohmann::json::parse(vocab).get<std::map<std::string, int>>();
   } catch (const nlohmann::json::exception& error) {
     throw DatasetError(fmt::format("{}: expected a JSON object of instrument: class index ({})", vocab_path.string(),
-                                   error.what()));
+                                   json_error_text(error)));
   }
   std::vector<std::string>& names = scan.description.class_names;
   for (const auto& [instrument, index] : class_of) {

@@ -18,12 +18,12 @@ AmfoSettings AmfoSettings::from(const ParameterSet& params) {
   s.session_binary_weight = params.real("amfo_session_binary_weight", s.session_binary_weight, ValidRange::at_least(0));
   s.gamma = params.real("amfo_gamma", s.gamma, ValidRange::at_least(0));
   s.sparsity_floor = params.real("amfo_r", s.sparsity_floor, ValidRange::at_least(0));
-  s.session_epochs = static_cast<int>(params.integer("amfo_session_epochs", s.session_epochs, ValidRange::at_least(0)));
+  s.session_epochs = params.count("amfo_session_epochs", s.session_epochs, ValidRange::at_least(0));
   s.session_lr = params.real("amfo_session_lr", s.session_lr, ValidRange::at_least(0));
-  s.session_batch = static_cast<int>(params.integer("amfo_session_batch", s.session_batch, ValidRange::at_least(1)));
-  s.refresh_every = static_cast<int>(params.integer("amfo_refresh_every", s.refresh_every, ValidRange::at_least(1)));
-  s.new_samples = static_cast<int>(params.integer("amfo_new_samples", s.new_samples, ValidRange::at_least(0)));
-  s.old_samples = static_cast<int>(params.integer("amfo_old_samples", s.old_samples, ValidRange::at_least(0)));
+  s.session_batch = params.count("amfo_session_batch", s.session_batch, ValidRange::at_least(1));
+  s.refresh_every = params.count("amfo_refresh_every", s.refresh_every, ValidRange::at_least(1));
+  s.new_samples = params.count("amfo_new_samples", s.new_samples, ValidRange::at_least(0));
+  s.old_samples = params.count("amfo_old_samples", s.old_samples, ValidRange::at_least(0));
   return s;
 }
 

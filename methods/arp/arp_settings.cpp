@@ -15,11 +15,11 @@ ArpSettings ArpSettings::from(const ParameterSet& params) {
   released.nesterov = false;
   released.decay = LearningRateDecay::cosine;
   s.base = SupervisedSchedule::from(params, released);
-  s.way = static_cast<int>(params.integer("arp_way", s.way, ValidRange::at_least(1)));
-  s.shot = static_cast<int>(params.integer("arp_shot", s.shot, ValidRange::at_least(1)));
-  s.tasks = static_cast<int>(params.integer("arp_tasks", s.tasks, ValidRange::at_least(1)));
-  s.relation_width = static_cast<int>(params.integer("arp_relation_width", s.relation_width, ValidRange::at_least(1)));
-  s.early_stop_tol = static_cast<int>(params.integer("arp_early_stop_tol", s.early_stop_tol, ValidRange::at_least(0)));
+  s.way = params.count("arp_way", s.way, ValidRange::at_least(1));
+  s.shot = params.count("arp_shot", s.shot, ValidRange::at_least(1));
+  s.tasks = params.count("arp_tasks", s.tasks, ValidRange::at_least(1));
+  s.relation_width = params.count("arp_relation_width", s.relation_width, ValidRange::at_least(1));
+  s.early_stop_tol = params.count("arp_early_stop_tol", s.early_stop_tol, ValidRange::at_least(0));
   s.refined_test_rows =
       named_choice(params, "arp_test_rows", s.refined_test_rows, {{"plain", false}, {"refined", true}});
   return s;

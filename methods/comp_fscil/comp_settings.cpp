@@ -15,7 +15,7 @@ CompSettings CompSettings::from(const ParameterSet& params) {
   s.reuse_tau = params.real("comp_reuse_tau", s.reuse_tau, ValidRange::at_least(0));
   s.reuse_weight = params.real("comp_reuse_weight", s.reuse_weight, ValidRange::at_least(0));
   s.map_temperature = params.real("comp_map_temperature", s.map_temperature, ValidRange::above(0));
-  s.session_steps = static_cast<int>(params.integer("comp_session_steps", s.session_steps, ValidRange::at_least(0)));
+  s.session_steps = params.count("comp_session_steps", s.session_steps, ValidRange::at_least(0));
   s.session_lr = params.real("comp_session_lr", s.session_lr, ValidRange::at_least(0));
   return s;
 }

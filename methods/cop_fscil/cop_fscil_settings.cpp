@@ -44,13 +44,13 @@ CopFscilSettings CopFscilSettings::from(const ParameterSet& params) {
   s.sensitive_dim = params.integer("pcqa_sensitive_dim", s.sensitive_dim, ValidRange::at_least(0));
   s.hidden = params.integer("pcqa_hidden", s.hidden, ValidRange::at_least(0));
   s.pic_weight = params.real("pic_weight", s.pic_weight, ValidRange::at_least(0));
-  s.pic_probes = static_cast<int>(params.integer("pic_probes", s.pic_probes, ValidRange::at_least(0)));
+  s.pic_probes = params.count("pic_probes", s.pic_probes, ValidRange::at_least(0));
   s.pic_space = named_choice(params, "pic_space", s.pic_space,
                              {{"raw", PicSpace::raw}, {"normalised", PicSpace::normalised}, {"invariant", PicSpace::invariant}});
 
   s.session_new_and_old =
       named_choice(params, "session_loss", s.session_new_and_old, {{"new-old", true}, {"joint", false}});
-  s.pspc_probes = static_cast<int>(params.integer("pspc_probes", s.pspc_probes, ValidRange::at_least(0)));
+  s.pspc_probes = params.count("pspc_probes", s.pspc_probes, ValidRange::at_least(0));
   s.pspc_beta = params.real("pspc_beta", s.pspc_beta, ValidRange::at_least(0));
   s.pspc_q_from_original = named_choice(params, "pspc_q", s.pspc_q_from_original, {{"original", true}, {"own", false}});
   s.pspc_instability_normalised =

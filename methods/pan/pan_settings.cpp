@@ -14,11 +14,11 @@ PanSettings PanSettings::from(const ParameterSet& params) {
   PanSettings s;
   s.standard = SupervisedSchedule::from(params);
   s.temperature = params.real("temperature", s.temperature, ValidRange::above(0));
-  s.pit_epochs = static_cast<int>(params.integer("pan_pit_epochs", s.pit_epochs, ValidRange::at_least(0)));
-  s.pit_episodes = static_cast<int>(params.integer("pan_pit_episodes", s.pit_episodes, ValidRange::at_least(1)));
+  s.pit_epochs = params.count("pan_pit_epochs", s.pit_epochs, ValidRange::at_least(0));
+  s.pit_episodes = params.count("pan_pit_episodes", s.pit_episodes, ValidRange::at_least(1));
   s.encoder_lr = params.real("pan_encoder_lr", s.encoder_lr, ValidRange::at_least(0));
   s.attention_lr = params.real("pan_attention_lr", s.attention_lr, ValidRange::at_least(0));
-  s.session_steps = static_cast<int>(params.integer("pan_session_steps", s.session_steps, ValidRange::at_least(0)));
+  s.session_steps = params.count("pan_session_steps", s.session_steps, ValidRange::at_least(0));
   s.session_lr = params.real("pan_session_lr", s.session_lr, ValidRange::at_least(0));
   s.temporary_base = params.integer("pan_temporary_base", s.temporary_base, ValidRange::at_least(0));
   return s;

@@ -18,16 +18,16 @@ PitsScSettings PitsScSettings::from(const ParameterSet& params) {
       named_choice(params, "cutmix_loss", s.cutmix_loss_mixed, {{"original", false}, {"mixed", true}});
 
   s.pit = s.pretrain;
-  s.pit.epochs = static_cast<int>(params.integer("pit_epochs", 10, ValidRange::at_least(0)));
+  s.pit.epochs = params.count("pit_epochs", 10, ValidRange::at_least(0));
   s.pit.learning_rate = params.real("pit_lr", 0.01, ValidRange::above(0));
-  s.pit_episodes = static_cast<int>(params.integer("pit_episodes", s.pit_episodes, ValidRange::at_least(1)));
-  s.pit_way = static_cast<int>(params.integer("pit_way", s.pit_way, ValidRange::at_least(2)));
-  s.pit_kept = static_cast<int>(params.integer("pit_kept", s.pit_kept, ValidRange::at_least(1)));
-  s.pit_shot = static_cast<int>(params.integer("pit_shot", s.pit_shot, ValidRange::at_least(1)));
-  s.pit_query = static_cast<int>(params.integer("pit_query", s.pit_query, ValidRange::at_least(1)));
+  s.pit_episodes = params.count("pit_episodes", s.pit_episodes, ValidRange::at_least(1));
+  s.pit_way = params.count("pit_way", s.pit_way, ValidRange::at_least(2));
+  s.pit_kept = params.count("pit_kept", s.pit_kept, ValidRange::at_least(1));
+  s.pit_shot = params.count("pit_shot", s.pit_shot, ValidRange::at_least(1));
+  s.pit_query = params.count("pit_query", s.pit_query, ValidRange::at_least(1));
   s.pit_alpha = params.real("pit_alpha", s.pit_alpha, ValidRange::above(0));
 
-  s.epochs_new = static_cast<int>(params.integer("epochs_new", s.epochs_new, ValidRange::at_least(0)));
+  s.epochs_new = params.count("epochs_new", s.epochs_new, ValidRange::at_least(0));
   s.lr_new = params.real("lr_new", s.lr_new, ValidRange::above(0));
   s.lamda_proto = params.real("lamda_proto", s.lamda_proto, ValidRange::between(0, 1));
   s.temperature = params.real("temperature", s.temperature, ValidRange::above(0));

@@ -110,9 +110,10 @@ TEST(Cli, PlanPutsTheMeasuredTimeOfFinishedCellsBesideTheEstimate) {
   EXPECT_NE(plan.output.find(" for the 1 of 2 cells whose result files --out holds"), std::string::npos) << plan.output;
   EXPECT_NE(plan.output.find(": measured / estimated "), std::string::npos) << plan.output;
 
-  // Runs of another command are not this plan's measure: other threads, profile or split.
+  // Runs of another command are not this plan's measure: other threads, profile, split or values.
   for (const std::string& other : {data + " --profile smoke --threads 2", data + " --profile fast --threads 1",
-                                   command + " --evaluate-on validation"}) {
+                                   command + " --evaluate-on validation", command + " --set shot=3",
+                                   command + " --set pretrain_epochs=2"}) {
     const CommandResult another = run_cli("plan " + other + " --seeds 1-2 --no-estimate");
     ASSERT_EQ(another.exit_code, 0) << another.output;
     EXPECT_EQ(another.output.find("measured"), std::string::npos) << other << another.output;

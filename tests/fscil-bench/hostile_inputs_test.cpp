@@ -280,6 +280,18 @@ const HostileCase kCases[] = {
      "r0.csv:3 column a: 1e39 is outside the range of a 32-bit float sample",
      {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
       "data/r0.csv=a\n1\n1e39\n3\n", "data/r1.csv=a\n10\n20\n30\n"}},
+    // Round five (issue 66's plan and resume work, read by a helper): numbers that would wrap, nest or
+    // repeat are refused before work.
+    {"set_integer_past_an_int", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --out {root}/out --set way=4294967301", 1,
+     "parameter way='4294967301': expected an integer >= 1 and at most 2147483647"},
+    {"set_way_as_large_as_an_int", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --out {root}/out --set way=2147483647", 1,
+     "session plan needs 4294967304 classes (10 base + 2 adding sessions x 2147483647-way) but the dataset has 20"},
+    {"result_file_nested_a_hundred_thousand_deep", "report --results {root}/runs --out {root}/tables", 1,
+     "deep.json: arrays and objects nested more than 64 deep, expected a fscil-bench file",
+     with(kOrcoRun, "runs/results/deep.json=" + std::string(100000, '[') + std::string(100000, ']'))},
+    {"config_nested_a_hundred_thousand_deep", kRun + "--config {root}/run.json", 2,
+     "run.json: arrays and objects nested more than 64 deep, expected run options",
+     {"run.json={\"set\": " + std::string(100000, '[') + std::string(100000, ']') + "}"}},
     // The data root fences what a dataset reads, links resolved.
     {"recording_linked_out_of_the_data_root", kFolderRun, 1, "leads to /etc/passwd, outside the data root",
      {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",
@@ -360,6 +372,27 @@ TEST(OutFolder, TablesAreRefusedWhileACommandStillWritesTheFolder) {
 
 // temperature=1e-45 once trained at chance (loss 2.3026 every epoch), exited 0 as if measured, and
 // filed the degenerate base in the stage cache for every later run.
+// A finished run's result file is an input of the command that would make it again: refused before
+// any work (it once trained everything, then failed to write), the earlier result kept to the byte.
+TEST(OutFolder, TheSameRunAgainIsRefusedBeforeAnyWorkAndResumeKeepsIt) {
+  TemporaryDirectory root;
+  const std::string out = (root.path() / "out").string();
+  const std::string run = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --no-cache --quiet ";
+  ASSERT_EQ(run_cli(run + "--out " + out).exit_code, 0);
+  const fs::path result = root.path() / "out" / "results" / "prototype__simtex-mini__seed1.json";
+  const std::string before = read_text(result);
+  const CommandResult again = run_cli(run + "--seeds 1-2 --out " + out);
+  expect_one_error_line(again, "prototype__simtex-mini__seed1.json holds a run of this command already (prototype, "
+                               "seed 1); --resume " + out + " keeps it");
+  EXPECT_FALSE(fs::exists(root.path() / "out" / "checkpoints" / "prototype__simtex-mini__seed1.ckpt"))
+      << "refused before training";
+  EXPECT_EQ(read_text(result), before);
+  EXPECT_FALSE(fs::exists(root.path() / "out" / "results" / "prototype__simtex-mini__seed2.json"));
+  ASSERT_EQ(run_cli(run + "--seeds 1-2 --resume " + out).exit_code, 0);
+  EXPECT_EQ(read_text(result), before);
+  EXPECT_TRUE(fs::exists(root.path() / "out" / "results" / "prototype__simtex-mini__seed2.json"));
+}
+
 TEST(DegenerateTraining, ABaseThatDidNotLearnIsMarkedAndNeverCached) {
   TemporaryDirectory root;
   const CommandResult run = run_cli("--methods pits-sc --dataset simtex-mini --profile smoke --threads 1 --set "

@@ -52,15 +52,18 @@ fscil::RunCheckpoint run_state(FuzzedDataProvider& in) {
     fscil::SessionOutcome o;
     o.session = s;
     o.seen_classes = in.ConsumeIntegralInRange(0, 10000);
-    for (double* accuracy : {&o.accuracy.all, &o.accuracy.base, &o.accuracy.novel, &o.accuracy.current,
-                             &o.accuracy.harmonic}) {
+    for (double* accuracy : {&o.accuracy.base, &o.accuracy.novel, &o.accuracy.current, &o.accuracy.harmonic}) {
       *accuracy = in.ConsumeFloatingPointInRange(0.0, 100.0);
     }
+    // The joint accuracy weighs the base and the novel samples: it lies between their accuracies.
+    const double novel_share = in.ConsumeProbability<double>();
+    o.accuracy.all = std::clamp(o.accuracy.base + novel_share * (o.accuracy.novel - o.accuracy.base),
+                                std::min(o.accuracy.base, o.accuracy.novel), std::max(o.accuracy.base, o.accuracy.novel));
     o.accuracy.samples = in.ConsumeIntegralInRange<std::int64_t>(0, 1'000'000'000);
     o.train_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);
     o.test_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);
-    o.context_ratio_mean = any_double(in);
-    o.context_ratio_max = any_double(in);
+    o.context_ratio_mean = std::fabs(any_double(in));  // a ratio of spreads: >= 0, infinite or NaN
+    o.context_ratio_max = std::fabs(any_double(in));
     const int diagnostics = in.ConsumeIntegralInRange(0, 3);
     for (int d = 0; d < diagnostics; ++d) o.diagnostics[name_of(in)] = any_double(in);
     checkpoint.outcomes.push_back(o);

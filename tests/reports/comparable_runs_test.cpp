@@ -154,6 +154,20 @@ TEST(ComparableRuns, LoadingAMixedFolderIsRefusedAndOutOfRangeAccuraciesToo) {
         }
       },
       ReportError);
+  // The joint accuracy weighs base and novel samples, so it lies between their accuracies.
+  RunRecord two_sessions = run_with_accuracies("prototype", "simtex", 1, {60, 99});
+  two_sessions.sessions[0].accuracy.base = 60;
+  two_sessions.sessions[1].accuracy.base = 64;
+  two_sessions.sessions[1].accuracy.novel = 60;
+  try {
+    run_record_from_json_text(to_json_text(two_sessions), "odd.json");
+    FAIL() << "an accuracy above both of its groups' was read";
+  } catch (const ReportError& error) {
+    EXPECT_STREQ(error.what(), "odd.json: session 1 has an accuracy of 99 with base 64 and novel 60, expected one "
+                               "between them");
+  }
+  two_sessions.sessions[1].accuracy.all = 62;
+  EXPECT_NO_THROW(run_record_from_json_text(to_json_text(two_sessions), "odd.json"));
 }
 
 }  // namespace

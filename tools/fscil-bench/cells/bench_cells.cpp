@@ -125,8 +125,33 @@ bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
   });
 }
 
+namespace {
+
+// Whether `record` is the run `method` of `cell` makes under `run`: the same run, seed, profile,
+// threads, split, selection and precision, and every value the method reads as the command gives it.
+bool is_run_of(const RunRecord& record, const RunOptions& run, const BenchCell& cell, const std::string& method) {
+  if (record.method != method || record.dataset != cell.dataset || record.seed != cell.seed ||
+      record.profile != run.profile || record.threads != thread_count(run.threads) ||
+      record.evaluated_on != run.evaluate_on || record.selection != run.selection ||
+      precision_of(record) != run.precision) {
+    return false;
+  }
+  const auto recorded_as = [&](const std::string& key, const std::string& value) {
+    const auto recorded = record.parameters.find(key);
+    return recorded != record.parameters.end() && recorded->second == value;
+  };
+  const ParameterSet read = method_parameters(run, method);
+  return std::all_of(read.used().begin(), read.used().end(),
+                     [&](const auto& value) { return recorded_as(value.first, value.second); }) &&
+         std::all_of(run.assignments.begin(), run.assignments.end(), [&](const std::string& assignment) {
+           const auto equals = assignment.find('=');
+           return recorded_as(assignment.substr(0, equals), assignment.substr(equals + 1));
+         });
+}
+
+}  // namespace
+
 void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cells) {
-  const int threads = thread_count(options.threads);
   for (BenchCell& cell : cells) {
     if (!cell_has_results(options, cell)) continue;
     const RunOptions run = cell_run_options(options, cell);
@@ -139,9 +164,7 @@ void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cel
       name.seed = cell.seed;
       const fs::path file = fs::path(run.out) / "results" / run_record_file_name(name);
       const RunRecord record = run_record_from_json_text(read_text_file(file), file.string());
-      of_this_command = of_this_command && record.profile == options.profile && record.threads == threads &&
-                        record.evaluated_on == options.evaluate_on && record.selection == options.selection &&
-                        precision_of(record) == options.precision;
+      of_this_command = of_this_command && is_run_of(record, run, cell, method);
       // A run continuing from a base another run of its cell trained counts only its sessions.
       seconds += record.total_seconds;
     }
@@ -195,7 +218,8 @@ std::string render_plan(const std::vector<BenchCell>& cells) {
 }
 
 std::string clock_time(double seconds) {
-  const auto whole = static_cast<long long>(std::ceil(std::max(seconds, 0.0)));
+  // Bounded, so the conversion is defined whatever an estimate comes to (1e15 s: 3e7 years).
+  const auto whole = static_cast<long long>(std::ceil(seconds > 0 ? std::min(seconds, 1e15) : 0.0));
   return fmt::format("{}:{:02}:{:02}", whole / 3600, whole / 60 % 60, whole % 60);
 }
 

@@ -1,6 +1,7 @@
 #include "tools/fscil-bench/cells/time_estimate.h"
 
 #include <fmt/format.h>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -14,6 +15,7 @@
 #include <utility>
 
 #include "core/atomic_file.h"
+#include "core/json_keys.h"
 #include "core/parallel_for.h"
 #include "core/parameter_set.h"
 #include "core/stopwatch.h"
@@ -42,7 +44,9 @@ constexpr double kRunOverCalibration = 1.1;
 nlohmann::json read_rates_file(const fs::path& file) {
   std::ifstream in(file);
   if (!in) return nlohmann::json::object();
-  nlohmann::json stored = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (json_nests_deeper_than(text, kDeepestJson)) return nlohmann::json::object();  // not ours: measured over
+  nlohmann::json stored = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   return stored.is_object() ? stored : nlohmann::json::object();
 }
 

@@ -122,9 +122,11 @@ std::vector<RunRecord> finished_runs(const RunOptions& options) {
 }
 
 // A new command may add runs to an --out only where they can share its tables (same data,
-// profile, split, threads and protocol; per method, the same parameters). A cell is checked even
-// as it continues: its folder holds the other cells' runs.
-void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& options) {
+// profile, split, threads and protocol; per method, the same parameters), and never a run the
+// folder holds already (continuing is --resume's). A cell is checked even as it continues: its
+// folder holds the other cells' runs.
+void require_room_for(const std::vector<RunRecord>& planned, const std::vector<std::uint64_t>& seeds,
+                      const RunOptions& options) {
   if ((options.resume && options.cell < 0) || !holds_results(options.out)) return;
   const std::vector<RunRecord> existing = load_run_records(options.out);
   for (const auto& run : planned) {
@@ -132,6 +134,15 @@ void require_room_for(const std::vector<RunRecord>& planned, const RunOptions& o
       if (const std::string why = incomparability(earlier, run); !why.empty()) {
         throw ProtocolError(fmt::format("--out {}: {} holds a run that cannot share a table with this one ({}); "
                                         "write to another --out", options.out, earlier.source, why));
+      }
+      // Refused before any work: its result file is an input of this command, which must not replace it.
+      const bool same_run = earlier.method == run.method && earlier.dataset == run.dataset &&
+                            std::count(seeds.begin(), seeds.end(), earlier.seed) > 0 &&
+                            grid_cell_name(earlier.grid) == grid_cell_name(run.grid);
+      if (!options.resume && same_run) {
+        throw ProtocolError(fmt::format("--out {}: {} holds a run of this command already ({}, seed {}); --resume {} "
+                                        "keeps it and runs what is missing, or write to another --out", options.out,
+                                        earlier.source, run.method, earlier.seed, options.out));
       }
     }
   }
@@ -331,7 +342,7 @@ OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& pla
   for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
     planned.push_back(planned_run(options, plan, plan.method_names[m], plan.method_params[m], plan.seeds.front()));
   }
-  require_room_for(planned, options);
+  require_room_for(planned, plan.seeds, options);
   std::vector<std::string> cell_runs;  // what a --cell command holds of the folder
   for (const auto& method : plan.method_names) {
     for (std::uint64_t seed : plan.seeds) {
