@@ -634,6 +634,7 @@ void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns&
   save_run_record(options.out, record);
   std::error_code ignored;
   fs::remove(run.checkpoint_file, ignored);  // the result file now holds everything
+  run.stage_progress->clear();  // kept by a stage whose base then came from the stage cache
   runs.records.push_back(std::move(record));
   if (!run.base_key.empty()) {
     runs.trained_bases[{run.base_key, run.seed}] = {std::move(run.method),
