@@ -51,16 +51,22 @@ bool fits_whole_number(const nlohmann::json& value, T least) {
   return false;
 }
 
+// An error E naming `origin` when `text` nests arrays and objects past kDeepestJson (json_keys.h):
+// checked before any parse. `expected` says what the file should be.
+template <typename E>
+void refuse_deep_json(const std::string& text, const std::string& origin, const std::string& expected) {
+  if (json_nests_deeper_than(text, kDeepestJson)) {
+    throw E(fmt::format("{}: arrays and objects nested more than {} deep, expected {}", origin, kDeepestJson, expected));
+  }
+}
+
 // The text of a JSON file as one object, read strictly: text that is not JSON, a key given twice in
 // one object (the library would keep the last without a word) or a top level that is not an object
 // is an error E naming `origin`.
 template <typename E>
 nlohmann::json parse_json_object(const std::string& text, const std::string& origin) {
   nlohmann::json document;
-  if (json_nests_deeper_than(text, kDeepestJson)) {
-    throw E(fmt::format("{}: arrays and objects nested more than {} deep, expected a fscil-bench file", origin,
-                        kDeepestJson));
-  }
+  refuse_deep_json<E>(text, origin, "a fscil-bench file");
   try {
     document = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& error) {

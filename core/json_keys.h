@@ -24,7 +24,7 @@ inline bool json_nests_deeper_than(const std::string& text, int depth) {
       in_string = true;
     } else if (c == '[' || c == '{') {
       if (++open > depth) return true;
-    } else if (c == ']' || c == '}') {
+    } else if ((c == ']' || c == '}') && open > 0) {
       --open;
     }
   }

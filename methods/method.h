@@ -90,6 +90,8 @@ class StageProgressStore {
   // minutes, not every epoch.
   virtual bool due() const = 0;
   virtual void store(const std::string& stage, const TrainedStage& progress) = 0;
+  // Where the progress of `stage` is kept, for a message about it.
+  virtual std::string origin(const std::string& stage) const = 0;
 };
 
 struct RunContext {

@@ -168,6 +168,7 @@ RunCheckpoint load_checkpoint(const fs::path& path, const std::string& expected_
       throw ProtocolError(error.what());
     }
     checkpoint.elapsed_seconds = read(archive, "elapsed_seconds").item<double>();
+    if (!(checkpoint.elapsed_seconds >= 0 && checkpoint.elapsed_seconds <= kMostSeconds)) throw corrupt();
     std::istringstream generator(tensor_text(read(archive, "generator")));
     generator >> checkpoint.generator;
     checkpoint.torch_random_state = read(archive, "torch_random_state");

@@ -46,9 +46,9 @@ void StageProgressFiles::store(const std::string& stage, const TrainedStage& pro
   since_kept_ = Stopwatch();
 }
 
-void StageProgressFiles::clear() const {
+void StageProgressFiles::clear(const fs::path& folder) {
   std::error_code ignored;
-  fs::remove_all(folder_, ignored);
+  fs::remove_all(folder, ignored);
 }
 
 fs::path stage_progress_folder(const fs::path& checkpoint_file) {

@@ -22,8 +22,10 @@ class StageProgressFiles : public StageProgressStore {
   std::optional<TrainedStage> find(const std::string& stage) override;
   bool due() const override { return since_kept_.seconds() >= interval_seconds_; }
   void store(const std::string& stage, const TrainedStage& progress) override;
+  std::string origin(const std::string& stage) const override { return file_of(stage).string(); }
   // Removes every stage's progress: once the base session's checkpoint is written it holds it all.
-  void clear() const;
+  void clear() const { clear(folder_); }
+  static void clear(const std::filesystem::path& folder);
 
  private:
   std::filesystem::path file_of(const std::string& stage) const;

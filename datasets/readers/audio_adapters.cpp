@@ -133,10 +133,7 @@ DatasetScan scan_ns100(const fs::path& root) {
   if (!vocab_file) throw DatasetError(fmt::format("{}: no such file, expected the instrument -> class map", vocab_path.string()));
   std::map<std::string, int> class_of;
   const std::string vocab{std::istreambuf_iterator<char>(vocab_file), std::istreambuf_iterator<char>()};
-  if (json_nests_deeper_than(vocab, kDeepestJson)) {
-    throw DatasetError(fmt::format("{}: arrays and objects nested more than {} deep, expected a JSON object of "
-                                   "instrument: class index", vocab_path.string(), kDeepestJson));
-  }
+  refuse_deep_json<DatasetError>(vocab, vocab_path.string(), "a JSON object of instrument: class index");
   try {
     class_of = nlohmann::json::parse(vocab).get<std::map<std::string, int>>();
   } catch (const nlohmann::json::exception& error) {

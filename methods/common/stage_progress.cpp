@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 
 #include "methods/common/module_state.h"
@@ -63,19 +64,33 @@ void take_momentum(const MethodState& state, const std::string& prefix, torch::o
   }
 }
 
-StageResumption resume_stage(const std::string& stage, const StageKeeping& keeping, torch::optim::SGD& optimizer,
-                             RunContext& context) {
+StageResumption resume_stage(const std::string& stage, int epochs, const StageKeeping& keeping,
+                             torch::optim::SGD& optimizer, RunContext& context) {
   if (!keeps_progress(keeping, context)) return {};
   const std::optional<TrainedStage> kept = context.stage_progress->find(stage);
   if (!kept) return {};
-  // The kept training log and diagnostics are the session's so far, the stages before this one included.
-  context.training_log.clear();
-  context.diagnostics.clear();
-  continue_from_stage(*kept, keeping.modules, context);
-  take_momentum(kept->state, kMomentum, optimizer);
-  if (keeping.take_more) keeping.take_more(kept->state);
-  const StageResumption resumed{static_cast<int>(take(kept->state, kEpochsDone).item<std::int64_t>()),
-                                take(kept->state, kFinished).item<bool>(), take(kept->state, kLastLoss).item<double>()};
+  StageResumption resumed;
+  try {
+    const auto one_value = [&](const char* key) {
+      const torch::Tensor& value = take(kept->state, key);
+      if (value.numel() != 1) throw MethodError(fmt::format("state '{}': expected one value", key));
+      return value;
+    };
+    resumed = {static_cast<int>(std::clamp<std::int64_t>(one_value(kEpochsDone).item<std::int64_t>(), -1, epochs + 1)),
+               one_value(kFinished).item<bool>(), one_value(kLastLoss).item<double>()};
+    if (resumed.epochs_done < 0 || resumed.epochs_done > epochs) {
+      throw MethodError(fmt::format("{} epochs done of a stage of {}", resumed.epochs_done, epochs));
+    }
+    // The kept training log and diagnostics are the session's so far, the stages before this one included.
+    context.training_log.clear();
+    context.diagnostics.clear();
+    continue_from_stage(*kept, keeping.modules, context);
+    take_momentum(kept->state, kMomentum, optimizer);
+    if (keeping.take_more) keeping.take_more(kept->state);
+  } catch (const std::exception& error) {  // MethodError, or LibTorch's about a tensor
+    throw MethodError(fmt::format("{}: progress of stage '{}' that does not fit this run ({}); delete it to train "
+                                  "that stage again", context.stage_progress->origin(stage), stage, error.what()));
+  }
   if (context.progress != nullptr) {
     context.progress->note(fmt::format("{}: continuing after epoch {}, kept by an earlier process of this run", stage,
                                        resumed.epochs_done));
@@ -92,7 +107,11 @@ void keep_stage_progress(const std::string& stage, const StageKeeping& keeping, 
   progress.state[kEpochsDone] = torch::tensor(static_cast<std::int64_t>(now.epochs_done));
   progress.state[kFinished] = torch::tensor(now.finished);
   progress.state[kLastLoss] = torch::tensor(now.last_loss, torch::kDouble);
-  context.stage_progress->store(stage, progress);
+  try {
+    context.stage_progress->store(stage, progress);
+  } catch (const std::exception& error) {  // a full disk costs the chance to continue, never the run
+    if (context.progress != nullptr) context.progress->note(fmt::format("{}: progress not kept: {}", stage, error.what()));
+  }
 }
 
 }  // namespace fscil

@@ -25,15 +25,18 @@ struct StageKeeping {
 struct StageResumption {
   int epochs_done = 0;
   bool finished = false;  // the stage had ended: nothing of it is to run again
-  double last_loss = 0;   // the mean loss of its last epoch done
+  double last_loss = 0;   // the mean loss of its last epoch done, for loops that return it
 };
 
-// The progress of `stage` kept by an earlier process of this run, written back into the modules,
-// `optimizer`, the extras and `context`; {0, false, 0} and nothing changed when none is kept.
-StageResumption resume_stage(const std::string& stage, const StageKeeping& keeping, torch::optim::SGD& optimizer,
-                             RunContext& context);
+// The progress of `stage` (of `epochs` at most) kept by an earlier process of this run, written
+// back into the modules, `optimizer`, the extras and `context`; {0, false, 0} and nothing changed
+// when none is kept. MethodError naming the file when the progress does not fit the run.
+StageResumption resume_stage(const std::string& stage, int epochs, const StageKeeping& keeping,
+                             torch::optim::SGD& optimizer, RunContext& context);
 // After an epoch of `stage`: keeps where it stands when a keeping is due, and always once it has
-// finished (so a run stopped in a later stage never trains this one again).
+// finished (so a run stopped in a later stage never trains this one again). A stop (SIGTERM) within
+// an epoch keeps nothing: the run continues from the last keeping. A keeping that cannot be
+// written is noted and the run goes on.
 void keep_stage_progress(const std::string& stage, const StageKeeping& keeping, const torch::optim::SGD& optimizer,
                          const StageResumption& now, RunContext& context);
 

@@ -83,7 +83,7 @@ double train_epochs_while(const std::vector<torch::Tensor>& parameters, const Ba
   torch::optim::SGD optimizer = make_schedule_sgd(parameters, schedule);
   const std::int64_t samples = data.features.count();
   const std::int64_t steps_per_epoch = (samples + schedule.batch_size - 1) / schedule.batch_size;
-  const StageResumption resumed = resume_stage(phase, keeping, optimizer, context);
+  const StageResumption resumed = resume_stage(phase, schedule.epochs, keeping, optimizer, context);
   if (resumed.finished) return resumed.last_loss;
   double last_loss = resumed.last_loss;
   for (int epoch = resumed.epochs_done; epoch < schedule.epochs; ++epoch) {

@@ -165,7 +165,8 @@ void PitsScMethod::train_pseudo_incremental(const SessionData& base, BestEpoch& 
   encoder_->train();
   classifier_->train();
   const StageKeeping keeping = stage_keeping(means);
-  const StageResumption resumed = resume_stage("pseudo-incremental", keeping, optimizer, context);
+  const StageResumption resumed =
+      resume_stage("pseudo-incremental", settings_.pit.epochs, keeping, optimizer, context);
   for (int epoch = resumed.epochs_done; !resumed.finished && epoch < settings_.pit.epochs; ++epoch) {
     // Once per epoch: the pseudo-incremental stage decays by epoch (a cosine, too, by epoch).
     set_learning_rate(optimizer, settings_.pit, epoch, 0, 1);

@@ -144,13 +144,15 @@ std::string all_but_times(const std::filesystem::path& file) {
   return kept;
 }
 
-// Starts `command` in the background and kills it (SIGKILL) once `file` exists.
-void kill_once_written(const std::string& command, const std::filesystem::path& file) {
+// Starts `command` in the background and kills it (SIGKILL) once `file` exists; returns its output.
+std::string kill_once_written(const std::string& command, const std::filesystem::path& file) {
+  const std::filesystem::path output = file.parent_path().parent_path().parent_path().parent_path() / "output";
   const std::string script = fmt::format(
-      "{} > /dev/null 2>&1 & pid=$!; for i in $(seq 30000); do [ -f {} ] && break; kill -0 $pid || break; "
+      "{} > {} 2>&1 & pid=$!; for i in $(seq 30000); do [ -f {} ] && break; kill -0 $pid || break; "
       "sleep 0.01; done; kill -KILL $pid; wait $pid",
-      command, file.string());
+      command, output.string(), file.string());
   std::system(("bash -c '" + script + "' 2> /dev/null").c_str());  // not bash's note of the kill
+  return read_text(output);
 }
 
 // A long base stage keeps its progress (FSCIL_BENCH_KEEP_PROGRESS_SECONDS=0: every epoch), so a run
@@ -169,14 +171,22 @@ TEST(Cli, ARunKilledWithinItsBaseStagesContinuesFromTheLastKeptEpochToTheSameRes
   kill_once_written(keep_every_epoch + built_program() + options + " --out " + killed.string(), progress / "pretrain.ckpt");
   ASSERT_TRUE(std::filesystem::exists(progress / "pretrain.ckpt"));
   ASSERT_FALSE(std::filesystem::exists(progress / "pseudo-incremental.ckpt")) << "killed after the pretraining";
-  kill_once_written(keep_every_epoch + built_program() + options + " --resume " + killed.string(),
-                    progress / "pseudo-incremental.ckpt");
+  // Killed within the pretraining (3 epochs): the next process continues after epoch 1 or 2.
+  const std::string second = kill_once_written(keep_every_epoch + built_program() + options + " --resume " +
+                                                   killed.string(), progress / "pseudo-incremental.ckpt");
+  const auto continued_after = [](const std::string& output, const std::string& stage) {
+    const std::string note = stage + ": continuing after epoch ";
+    const auto at = output.find(note);
+    return at == std::string::npos ? -1 : std::atoi(output.c_str() + at + note.size());
+  };
+  EXPECT_GE(continued_after(second, "pretrain"), 1) << second;
+  EXPECT_LE(continued_after(second, "pretrain"), 2) << "killed within the stage, not after it: " << second;
   ASSERT_FALSE(std::filesystem::exists(result)) << "the run finished before it was killed";
   const CommandResult resumed = run_cli(options + " --resume " + killed.string(), keep_every_epoch);
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
-  EXPECT_NE(resumed.output.find("pretrain: continuing after epoch 3, kept by an earlier process of this run"),
-            std::string::npos) << resumed.output;
-  EXPECT_NE(resumed.output.find("pseudo-incremental: continuing after epoch "), std::string::npos) << resumed.output;
+  EXPECT_EQ(continued_after(resumed.output, "pretrain"), 3) << resumed.output;
+  EXPECT_GE(continued_after(resumed.output, "pseudo-incremental"), 1) << resumed.output;
+  EXPECT_LE(continued_after(resumed.output, "pseudo-incremental"), 2) << resumed.output;
   EXPECT_FALSE(std::filesystem::exists(progress)) << "a finished base leaves no progress behind";
 
   const CommandResult whole = run_cli(options + " --quiet --out " + (folder.path() / "whole").string());

@@ -354,7 +354,8 @@ OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& pla
   const fs::path checkpoints = fs::path(options.out) / "checkpoints";
   if (options.resume && options.cell < 0 && fs::is_directory(checkpoints)) {
     for (const auto& entry : fs::directory_iterator(checkpoints)) {
-      if (entry.path().extension() != ".ckpt") continue;
+      // A run stopped within its base stage has only its progress (stage_progress_files.h).
+      if (entry.path().extension() != ".ckpt" && entry.path().extension() != ".progress") continue;
       if (std::find(cell_runs.begin(), cell_runs.end(), entry.path().stem().string()) == cell_runs.end()) {
         throw ProtocolError(fmt::format("--resume {}: {} is the checkpoint of a run this command does not make; "
                                         "resume with the --methods and --seeds of the interrupted command",
@@ -668,7 +669,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
     runs.records.push_back(*done);
     std::error_code ignored;
     fs::remove(run.checkpoint_file, ignored);
-    fs::remove_all(stage_progress_folder(run.checkpoint_file), ignored);
+    StageProgressFiles::clear(stage_progress_folder(run.checkpoint_file));
     return;
   }
   seed_run(run);

@@ -51,10 +51,7 @@ bool swept_on_command_line(const std::vector<std::string>& command_line, const s
 json parse_config(const std::filesystem::path& file) {
   const std::string text = read_text_file(file);
   json config;
-  if (json_nests_deeper_than(text, kDeepestJson)) {
-    throw CliError(fmt::format("--config {}: arrays and objects nested more than {} deep, expected run options",
-                               file.string(), kDeepestJson));
-  }
+  refuse_deep_json<CliError>(text, "--config " + file.string(), "run options");
   try {
     config = json::parse(text);
   } catch (const json::exception& error) {
