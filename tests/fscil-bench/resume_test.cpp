@@ -128,6 +128,8 @@ TEST_F(KilledRun, ACorruptOrForeignCheckpointIsRefusedWithOneLine) {
                                 "--no-cache --seeds 2 --resume " + out.path().string()),
                         "cop-fscil__simtex-mini__seed1.ckpt is the checkpoint of a run this command does not make");
   std::filesystem::remove(checkpoint());
+  // Stage progress the kill may have left beside it (a stop between the checkpoint and its removal).
+  std::filesystem::remove_all(std::filesystem::path(checkpoint()).replace_extension(".progress"));
   expect_one_error_line(run_cli(" --methods cop-fscil --dataset simtex-mini --profile smoke --threads 1 --quiet "
                                 "--no-cache --seeds 2 --resume " + out.path().string()),
                         "checkpoint of another run");

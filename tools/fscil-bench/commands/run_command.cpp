@@ -354,8 +354,11 @@ OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& pla
   const fs::path checkpoints = fs::path(options.out) / "checkpoints";
   if (options.resume && options.cell < 0 && fs::is_directory(checkpoints)) {
     for (const auto& entry : fs::directory_iterator(checkpoints)) {
-      // A run stopped within its base stage has only its progress (stage_progress_files.h).
-      if (entry.path().extension() != ".ckpt" && entry.path().extension() != ".progress") continue;
+      // A run stopped within its base stage has only its progress (stage_progress_files.h); one
+      // stopped just after its base session's checkpoint may have both, named by the checkpoint.
+      const fs::path& file = entry.path();
+      if (file.extension() != ".ckpt" && file.extension() != ".progress") continue;
+      if (file.extension() == ".progress" && fs::exists(fs::path(file).replace_extension(".ckpt"))) continue;
       if (std::find(cell_runs.begin(), cell_runs.end(), entry.path().stem().string()) == cell_runs.end()) {
         throw ProtocolError(fmt::format("--resume {}: {} is the checkpoint of a run this command does not make; "
                                         "resume with the --methods and --seeds of the interrupted command",
@@ -535,6 +538,7 @@ void choose_base(const RunOptions& options, const CommandPlan& plan, const Comma
     }
     progress.note(fmt::format("continuing after session {} from {}", run.checkpoints.finished.size() - 1,
                               run.checkpoint_file.string()));
+    run.stage_progress->clear();  // left when a stop came between the checkpoint and its removal
   } else if (auto found = runs.trained_bases.find({run.base_key, run.seed});
              !run.base_key.empty() && found != runs.trained_bases.end() &&
              run.method->continue_from_base(*found->second.method, run.context)) {
