@@ -105,6 +105,19 @@ std::vector<BenchCell> plan_cells(const RunOptions& options, const std::vector<s
   return cells;
 }
 
+namespace {
+
+// Where the run `method` of `cell` writes its result file, in the cell's folder `run.out`.
+fs::path result_file_of(const RunOptions& run, const BenchCell& cell, const std::string& method) {
+  RunRecord name;
+  name.method = method;
+  name.dataset = cell.dataset;
+  name.seed = cell.seed;
+  return fs::path(run.out) / "results" / run_record_file_name(name);
+}
+
+}  // namespace
+
 RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell) {
   RunOptions run = cell.grid.empty() ? options : sweep_cell_options(options, cell.grid);
   run.methods = fmt::format("{}", fmt::join(cell.methods, ","));
@@ -117,11 +130,7 @@ RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell) {
 bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
   const RunOptions run = cell_run_options(options, cell);
   return std::all_of(cell.methods.begin(), cell.methods.end(), [&](const std::string& method) {
-    RunRecord name;
-    name.method = method;
-    name.dataset = cell.dataset;
-    name.seed = cell.seed;
-    return fs::exists(fs::path(run.out) / "results" / run_record_file_name(name));
+    return fs::exists(result_file_of(run, cell, method));
   });
 }
 
@@ -158,11 +167,7 @@ void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cel
     double seconds = 0;
     bool of_this_command = true;
     for (const std::string& method : cell.methods) {
-      RunRecord name;
-      name.method = method;
-      name.dataset = cell.dataset;
-      name.seed = cell.seed;
-      const fs::path file = fs::path(run.out) / "results" / run_record_file_name(name);
+      const fs::path file = result_file_of(run, cell, method);
       const RunRecord record = run_record_from_json_text(read_text_file(file), file.string());
       of_this_command = of_this_command && is_run_of(record, run, cell, method);
       // A run continuing from a base another run of its cell trained counts only its sessions.
