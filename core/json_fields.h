@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/json_depth.h"
 #include "core/json_keys.h"
 #include "core/shown_text.h"
 #include "core/valid_range.h"
@@ -51,7 +52,7 @@ bool fits_whole_number(const nlohmann::json& value, T least) {
   return false;
 }
 
-// An error E naming `origin` when `text` nests arrays and objects past kDeepestJson (json_keys.h):
+// An error E naming `origin` when `text` nests arrays and objects past kDeepestJson (json_depth.h):
 // checked before any parse. `expected` says what the file should be.
 template <typename E>
 void refuse_deep_json(const std::string& text, const std::string& origin, const std::string& expected) {

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string_view>
 
-#include "core/json_keys.h"
+#include "core/json_depth.h"
 #include "core/stable_hash.h"
 #include "core/error.h"
 #include "core/text_file.h"

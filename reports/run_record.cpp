@@ -304,7 +304,8 @@ RunRecord run_record_from_json_text(const std::string& text, const std::string& 
       const Fields inference = top.object("inference");
       inference.require_known_keys(
           {"macs", "flops", "parameters", "trainable_parameters", "seconds_per_sample", "batch"});
-      record.inference.macs = inference.whole<std::int64_t>("macs", 0);
+      // Written again as flops = 2 x macs, which must fit the same 64 bits.
+      record.inference.macs = inference.integer("macs", ValidRange::between(0, 4e18));
       record.inference.parameters = inference.whole<std::int64_t>("parameters", 0);
       record.inference.trainable_parameters = inference.whole<std::int64_t>("trainable_parameters", 0);
       record.inference.seconds_per_sample =

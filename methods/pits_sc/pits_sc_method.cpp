@@ -108,25 +108,29 @@ void PitsScMethod::pretrain(const SessionData& base, BestEpoch& best, RunContext
 
 bool PitsScMethod::pretraining_shareable(const RunContext& context) const { return stages_shareable(context); }
 
+StageModules PitsScMethod::network_modules() {
+  return {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}};
+}
+
 bool PitsScMethod::take_shared_pretraining(RunContext& context) {
   if (!pretraining_shareable(context)) return false;
   std::optional<TrainedStage> stage = context.stages->find(kPretrainingStage);
   if (!stage) return false;
-  continue_from_stage(*stage, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}}, context);
+  continue_from_stage(*stage, network_modules(), context);
   context_bank().restore_from(stage->state, "context_bank.");
   return true;
 }
 
 void PitsScMethod::share_pretraining(RunContext& context) {
   if (!pretraining_shareable(context)) return;
-  TrainedStage stage = file_stage(context, {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}});
+  TrainedStage stage = file_stage(context, network_modules());
   context_bank().save_into(stage.state, "context_bank.");
   context.stages->store(kPretrainingStage, std::move(stage));
 }
 
 StageKeeping PitsScMethod::stage_keeping(LossPartMeans& means) {
   StageKeeping keeping;
-  keeping.modules = {{"encoder.", encoder_.get()}, {"classifier.", classifier_.get()}};
+  keeping.modules = network_modules();
   int extra = 0;
   for (auto* module : extra_trained_modules()) keeping.modules.emplace_back(fmt::format("extra{}.", extra++), module);
   keeping.save_more = [this, &means](MethodState& state) {

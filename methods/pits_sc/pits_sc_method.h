@@ -93,6 +93,8 @@ class PitsScMethod : public Method {
   void train_pseudo_incremental(const SessionData& base, BestEpoch& best, RunContext& context);
   // The modules a stage's kept epoch (RunContext::selection) is a state of.
   std::vector<torch::nn::Module*> selected_modules();
+  // The encoder and classifier under the names a shared stage and kept progress file them by.
+  StageModules network_modules();
   // What its base stages keep for a run continued by another process (stage_progress.h): the
   // trained modules, the context statistic bank and the stage's loss means `means`.
   StageKeeping stage_keeping(LossPartMeans& means);

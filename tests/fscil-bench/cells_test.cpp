@@ -23,6 +23,7 @@
 #include "tests/fixtures/dataset_fixtures.h"
 #include "tests/temporary_directory.h"
 #include "tests/fscil-bench/cli_support.h"
+#include "tests/reports/session_runs.h"
 
 namespace fscil {
 namespace {
@@ -207,8 +208,11 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
 
   // Cells 0 (prototype, seed 1) and 3 (cop-fscil, seed 2) have their result files.
   std::filesystem::create_directories(folder.path() / "runs" / "results");
-  std::ofstream(folder.path() / "runs" / "results" / "prototype__simtex-mini__seed1.json") << "{}";
-  std::ofstream(folder.path() / "runs" / "results" / "cop-fscil__simtex-mini__seed2.json") << "{}";
+  const auto results = folder.path() / "runs" / "results";
+  std::ofstream(results / "prototype__simtex-mini__seed1.json")
+      << to_json_text(run_with_accuracies("prototype", "simtex-mini", 1, {90}));
+  std::ofstream(results / "cop-fscil__simtex-mini__seed2.json")
+      << to_json_text(run_with_accuracies("cop-fscil", "simtex-mini", 2, {90}));
   const CommandResult missing = run_cli(command + " --missing-only");
   ASSERT_EQ(missing.exit_code, 0) << missing.output;
   EXPECT_NE(missing.output.find("2 of 4 cells"), std::string::npos) << missing.output;
@@ -221,6 +225,15 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   EXPECT_NE(still_missing.output.find("2 cells"), std::string::npos) << still_missing.output;
   EXPECT_NE(still_missing.output.find("    1  prototype"), std::string::npos) << still_missing.output;
   EXPECT_NE(still_missing.output.find("    2  cop-fscil"), std::string::npos) << still_missing.output;
+
+  // A damaged result file is not a cell done: one error naming it, before any cell is counted.
+  const std::string whole = read_text(results / "prototype__simtex-mini__seed1.json");
+  std::ofstream(results / "prototype__simtex-mini__seed1.json") << whole.substr(0, whole.size() / 2);
+  const CommandResult truncated = run_cli(plan + " --missing-only");
+  expect_one_error_line(truncated, "prototype__simtex-mini__seed1.json");
+  EXPECT_EQ(truncated.exit_code, 1) << truncated.output;
+  expect_one_error_line(run_cli(command + " --missing-only"), "prototype__simtex-mini__seed1.json");
+  std::ofstream(results / "prototype__simtex-mini__seed1.json") << whole;
 
   expect_one_error_line(run_cli(command + " --submit", "PATH=/nonexistent"), "sbatch --parsable");
   expect_one_error_line(run_cli(command + " --sbatch-arg=account=abc"), "expected one sbatch option on one line");

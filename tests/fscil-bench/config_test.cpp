@@ -40,6 +40,11 @@ TEST(Cli, ConfigFileSetsRunOptionsAndTheCommandLineOverridesIt) {
   expect_one_error_line(run_cli("--config " + config.string()), "\"grid\" needs the sweep, plan, run-cells or slurm subcommand");
   expect_one_error_line(run_cli("plan --config " + (folder.path() / "none.json").string()),
                         "none.json: cannot open (No such file or directory)");
+  // A value the command line overrides is still the file's to get right: nonsense is never accepted silently.
+  const auto nonsense = folder.path() / "nonsense.json";
+  std::ofstream(nonsense) << R"({"methods": "prototype", "dataset": "simtex-mini", "threads": "many"})";
+  expect_one_error_line(run_cli("plan --config " + nonsense.string() + " --threads 1 --no-estimate"),
+                        "--config " + nonsense.string() + ": \"threads\"");
   // A folder is not a file: one line from the one file reader, a bad input (exit 1), not an abort.
   const CommandResult folder_given = run_cli("--config " + folder.path().string());
   EXPECT_EQ(folder_given.exit_code, 1) << folder_given.output;

@@ -173,6 +173,8 @@ TEST(Cli, ARunKilledWithinItsBaseStagesContinuesFromTheLastKeptEpochToTheSameRes
   kill_once_written(keep_every_epoch + built_program() + options + " --out " + killed.string(), progress / "pretrain.ckpt");
   ASSERT_TRUE(std::filesystem::exists(progress / "pretrain.ckpt"));
   ASSERT_FALSE(std::filesystem::exists(progress / "pseudo-incremental.ckpt")) << "killed after the pretraining";
+  const auto from_cache = folder.path() / "from-cache";  // continued once the stage cache holds its base
+  std::filesystem::copy(killed, from_cache, std::filesystem::copy_options::recursive);
   // Killed within the pretraining (3 epochs): the next process continues after epoch 1 or 2.
   const std::string second = kill_once_written(keep_every_epoch + built_program() + options + " --resume " +
                                                    killed.string(), progress / "pseudo-incremental.ckpt");
@@ -191,11 +193,26 @@ TEST(Cli, ARunKilledWithinItsBaseStagesContinuesFromTheLastKeptEpochToTheSameRes
   EXPECT_LE(continued_after(resumed.output, "pseudo-incremental"), 2) << resumed.output;
   EXPECT_FALSE(std::filesystem::exists(progress)) << "a finished base leaves no progress behind";
 
-  const CommandResult whole = run_cli(options + " --quiet --out " + (folder.path() / "whole").string());
+  // The uninterrupted run fills a stage cache (the cache changes no number).
+  std::string cached = options;
+  cached.replace(cached.find("--no-cache"), 10, "--cache-dir " + (folder.path() / "cache").string());
+  const CommandResult whole = run_cli(cached + " --quiet --out " + (folder.path() / "whole").string());
   ASSERT_EQ(whole.exit_code, 0) << whole.output;
   const std::string expected = all_but_times(folder.path() / "whole" / "results" / result.filename());
   EXPECT_NE(expected.find("\"stage\": \"pseudo-incremental\""), std::string::npos) << expected;
   EXPECT_EQ(all_but_times(result), expected);
+
+  // A run killed within its pretraining, continued once the cache holds its base, takes that base,
+  // and its progress goes with the run it belonged to.
+  const auto cached_progress = from_cache / "checkpoints" / progress.filename();
+  ASSERT_TRUE(std::filesystem::exists(cached_progress / "pretrain.ckpt"));
+  const CommandResult continued = run_cli(cached + " --quiet --resume " + from_cache.string());
+  ASSERT_EQ(continued.exit_code, 0) << continued.output;
+  std::string from_cached_base = all_but_times(from_cache / "results" / result.filename());
+  const std::string noted = "    \"base_training\": \"from the stage cache\",\n";  // the one line it adds
+  ASSERT_NE(from_cached_base.find(noted), std::string::npos) << from_cached_base;
+  EXPECT_EQ(from_cached_base.erase(from_cached_base.find(noted), noted.size()), expected);
+  EXPECT_FALSE(std::filesystem::exists(cached_progress)) << "a run whose base came from the cache left progress";
 
   expect_one_error_line(run_cli(options + " --out " + (folder.path() / "other").string(),
                                 "FSCIL_BENCH_KEEP_PROGRESS_SECONDS=soon"),

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <regex>
 
 #include "core/csv_text.h"
 #include "core/error.h"
@@ -190,6 +191,10 @@ TEST(RunRecord, ReadAsStrictlyAsDatasetJson) {
   EXPECT_EQ(refusal(changed("\"total_seconds\": ", "\"total_seconds\": -")).substr(0, 48),
             "odd.json: field 'total_seconds': expected a numb");
   EXPECT_EQ(refusal(changed("\"macs\": ", "\"macs\": 1, \"mac\": ")).substr(0, 41), "odd.json: unknown field 'inference.mac', ");
+  // Written again as flops = 2 x macs: a count past 4e18 would overflow 64 bits there.
+  EXPECT_EQ(refusal(std::regex_replace(text, std::regex("\"macs\": [0-9]+"), "\"macs\": 5000000000000000000"))
+                .substr(0, 55),
+            "odd.json: field 'inference.macs': expected an integer i");
   EXPECT_EQ(refusal(changed("\"sessions\": [", "\"sessions\": [1, ")), "odd.json: field 'sessions[0]': expected an object");
   EXPECT_EQ(refusal(changed("\"parameters\": {", "\"parameters\": {\"shot\": \"five\", ")),
             "odd.json: field 'parameters.shot': expected a whole number of at least 1, found 'five'");

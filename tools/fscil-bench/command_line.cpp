@@ -83,36 +83,44 @@ std::string help_hint(const CLI::App& app) {
   return fmt::format(" (try: fscil-bench{} --help)", given.empty() ? "" : " " + given.front()->get_name());
 }
 
-// argv with a --config file's options merged in (config_file.h), then parsed.
-void parse(CLI::App& app, int argc, char** argv) {
-  std::vector<std::string> arguments(argv, argv + argc);
-  if (const std::string config = config_file_of(arguments); !config.empty()) {
-    arguments = with_config_file(arguments, config,
-                                 [&](const std::string& name) {
-                                   const CLI::Option* option = app.get_option_no_throw(name);
-                                   if (option == nullptr) return OptionKind::unknown;
-                                   return option->get_expected_min() == 0 ? OptionKind::flag : OptionKind::takes_value;
-                                 });
-  }
-  std::vector<char*> words;
-  for (auto& argument : arguments) words.push_back(argument.data());
+// Parses `words`, where `typed` is what the user typed of them: an error in a value the --config
+// file gave is the file's to name, not a flag the user never typed.
+void parse_words(CLI::App& app, std::vector<std::string> words, const std::string& config,
+                 const std::vector<std::string>& typed) {
+  std::vector<char*> pointers;
+  for (auto& word : words) pointers.push_back(word.data());
   try {
-    app.parse(static_cast<int>(words.size()), words.data());
+    app.parse(static_cast<int>(pointers.size()), pointers.data());
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) throw;  // --help, --help-all
     const std::string message = cli_message(app, error);
-    // A bad value the file gave is the file's to name, not a flag the user never typed.
-    const std::string config = config_file_of({argv, argv + argc});
-    const std::vector<std::string> typed(argv, argv + argc);
     for (const auto& key : config.empty() ? std::vector<std::string>{} : config_keys(config)) {
       const std::string option = "--" + key;
       if (!command_line_gives(typed, option) && message.rfind(option, 0) == 0 &&
           (message[option.size()] == ':' || message[option.size()] == ' ')) {
-        throw CliError(fmt::format("--config {}: \"{}\"{}", config, key, message.substr(option.size())));
+        throw CliError(
+            fmt::format("--config {}: \"{}\"{}", config, shown_text(key), message.substr(option.size())));
       }
     }
     throw CliError(message + help_hint(app));
   }
+}
+
+// argv with a --config file's options merged in (config_file.h), then parsed. The file's values
+// that the command line overrides are parsed first, in their place, so that they are checked too.
+void parse(CLI::App& app, int argc, char** argv) {
+  const std::vector<std::string> typed(argv, argv + argc);
+  const std::string config = config_file_of(typed);
+  if (config.empty()) return parse_words(app, typed, config, typed);
+  const auto option_kind = [&](const std::string& name) {
+    const CLI::Option* option = app.get_option_no_throw(name);
+    if (option == nullptr) return OptionKind::unknown;
+    return option->get_expected_min() == 0 ? OptionKind::flag : OptionKind::takes_value;
+  };
+  if (const auto unoverridden = without_options_of_file(typed, config, option_kind); unoverridden != typed) {
+    parse_words(app, with_config_file(unoverridden, config, option_kind), config, unoverridden);
+  }
+  parse_words(app, with_config_file(typed, config, option_kind), config, typed);
 }
 
 // Options that a run would otherwise ignore without a word.

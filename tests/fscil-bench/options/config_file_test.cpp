@@ -56,6 +56,24 @@ TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
   EXPECT_EQ(config_file_of({"fscil-bench", "list"}), "");
 }
 
+TEST(ConfigFile, WithoutTheOptionsOfTheFileLeavesTheFilesValuesToBeChecked) {
+  TemporaryDirectory directory;
+  const auto file = write(directory, R"({"threads": "many", "quiet": true, "set": {"shot": 3}})");
+  const Words command_line = {"fscil-bench", "plan", "--threads", "2", "--quiet", "--threads=3", "--seeds", "1",
+                              "--set", "shot=5", "--config", file.string()};
+  const Words unoverridden = {"fscil-bench", "plan", "--seeds", "1", "--set", "shot=5", "--config", file.string()};
+  EXPECT_EQ(without_options_of_file(command_line, file, run_option), unoverridden);
+  const Words file_values = {"fscil-bench", "--threads", "many", "--quiet", "plan", "--seeds", "1", "--set", "shot=5",
+                             "--config", file.string()};
+  EXPECT_EQ(with_config_file(unoverridden, file, run_option), file_values);
+  EXPECT_EQ(without_options_of_file({"fscil-bench", "--threads"}, file, run_option), Words{"fscil-bench"});  // a value cut off
+  // A value the command line overrides is read by the file's rules all the same (run.json rewritten).
+  const auto flag_with_value = write(directory, R"({"quiet": "yes"})");
+  EXPECT_THROW(with_config_file(without_options_of_file({"fscil-bench", "--quiet"}, flag_with_value, run_option),
+                                flag_with_value, run_option),
+               CliError);
+}
+
 TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
   TemporaryDirectory directory;
   const std::vector<std::pair<std::string, std::string>> bad = {
@@ -71,6 +89,8 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
       {"{\"save-model\": \"yes\"}", "\"save-model\": expected true or false, found \"yes\""},
       {"{\"threads\": true}", "\"threads\": expected a value, found true"},
       {"{\"methods\": \"a\", \"methods\": \"b\"}", "key 'methods' given twice"},
+      // A NUL in a key is spelled out: it once cut the error line where it stood.
+      {"{\"me\\u0000thods\": 1}", "\"me\\x00thods\": not a run option"},
   };
   for (const auto& [text, message] : bad) {
     const auto file = write(directory, text);

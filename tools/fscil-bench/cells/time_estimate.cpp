@@ -15,7 +15,7 @@
 #include <utility>
 
 #include "core/atomic_file.h"
-#include "core/json_keys.h"
+#include "core/json_depth.h"
 #include "core/parallel_for.h"
 #include "core/parameter_set.h"
 #include "core/stopwatch.h"

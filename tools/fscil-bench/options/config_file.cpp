@@ -68,7 +68,9 @@ json parse_config(const std::filesystem::path& file) {
 std::vector<std::pair<std::string, std::string>> settings_of(const json& value, const std::string& where) {
   if (!value.is_object()) throw CliError(where + ": expected an object of keys and values");
   std::vector<std::pair<std::string, std::string>> settings;
-  for (const auto& [name, setting] : value.items()) settings.emplace_back(name, text_of(setting, where + "." + name));
+  for (const auto& [name, setting] : value.items()) {
+    settings.emplace_back(name, text_of(setting, where + "." + shown_text(name)));
+  }
   return settings;
 }
 
@@ -85,6 +87,29 @@ std::vector<std::string> config_keys(const std::filesystem::path& file) {
   const json config = parse_config(file);
   for (const auto& [key, value] : config.items()) keys.push_back(key);
   return keys;
+}
+
+std::vector<std::string> without_options_of_file(const std::vector<std::string>& command_line,
+                                                 const std::filesystem::path& file,
+                                                 const std::function<OptionKind(const std::string&)>& option_kind) {
+  std::vector<std::string> kept = command_line;
+  const json config = parse_config(file);
+  for (const auto& [key, value] : config.items()) {
+    if (key == "set" || key == "grid" || key == "config") continue;
+    const std::string option = "--" + key;
+    const std::size_t words = option_kind(option) == OptionKind::takes_value ? 2 : 1;
+    for (std::size_t i = 1; i < kept.size();) {
+      if (kept[i].rfind(option + "=", 0) == 0) {
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
+      } else if (kept[i] == option) {
+        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i),
+                   kept.begin() + static_cast<std::ptrdiff_t>(std::min(i + words, kept.size())));
+      } else {
+        ++i;
+      }
+    }
+  }
+  return kept;
 }
 
 std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file) {
@@ -108,7 +133,7 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
   std::vector<std::string> options;  // after the program name
   std::vector<std::string> grid;     // after the subcommand
   for (const auto& [key, value] : config.items()) {
-    const std::string where = fmt::format("--config {}: \"{}\"", file.string(), key);
+    const std::string where = fmt::format("--config {}: \"{}\"", file.string(), shown_text(key));
     if (key == "set") {
       for (const auto& [name, setting] : settings_of(value, where)) {
         if (!swept_on_command_line(command_line, name) && !keyed_on_command_line(command_line, "--set", name)) {
@@ -118,11 +143,13 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
     } else if (key == "grid") {
       if (!value.is_object()) throw CliError(where + ": expected an object of keys and value lists");
       for (const auto& [name, values] : value.items()) {
-        if (!values.is_array() || values.empty()) throw CliError(fmt::format("{}.{}: expected a list of values", where, name));
+        if (!values.is_array() || values.empty()) {
+          throw CliError(fmt::format("{}.{}: expected a list of values", where, shown_text(name)));
+        }
         if (swept_on_command_line(command_line, name)) continue;  // the command line's axis wins
         std::string axis = name + "=";
         for (std::size_t i = 0; i < values.size(); ++i) {
-          axis += (i == 0 ? "" : ",") + text_of(values[i], where + "." + name);
+          axis += (i == 0 ? "" : ",") + text_of(values[i], where + "." + shown_text(name));
         }
         grid.insert(grid.end(), {"--grid", axis});
       }

@@ -22,6 +22,14 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
                                           const std::filesystem::path& file,
                                           const std::function<OptionKind(const std::string&)>& option_kind);
 
+// The command line without the words of the run options the file also gives (`--threads 2`,
+// `--threads=2`, a flag): merged with the file by with_config_file and parsed, it checks the
+// file's values that the command line overrides. A run never reads them, but nonsense in a file
+// is the file's error whichever value wins.
+std::vector<std::string> without_options_of_file(const std::vector<std::string>& command_line,
+                                                 const std::filesystem::path& file,
+                                                 const std::function<OptionKind(const std::string&)>& option_kind);
+
 // The "set" block of a config file as key -> value text (numbers as written, booleans as
 // true/false): what the released dataset configs give as their datasets' defaults.
 std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file);
