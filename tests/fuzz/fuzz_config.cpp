@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   };
   fuzz::expect_only<CliError>([&] {
     const std::vector<std::string> typed = {"fscil-bench", "sweep", "--threads", "2"};
-    const auto words = with_config_file(typed, file, kind);
+    const auto words = ConfigFile(file).merged_into(typed, kind);
     fuzz::require(words.size() >= typed.size() && words.front() == "fscil-bench");
     fuzz::require(std::find(words.begin(), words.end(), "sweep") != words.end());
   });

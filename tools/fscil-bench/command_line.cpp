@@ -85,7 +85,7 @@ std::string help_hint(const CLI::App& app) {
 
 // Parses `words`, where `typed` is what the user typed of them: an error in a value the --config
 // file gave is the file's to name, not a flag the user never typed.
-void parse_words(CLI::App& app, std::vector<std::string> words, const std::string& config,
+void parse_words(CLI::App& app, std::vector<std::string> words, const ConfigFile* config,
                  const std::vector<std::string>& typed) {
   std::vector<char*> pointers;
   for (auto& word : words) pointers.push_back(word.data());
@@ -94,12 +94,12 @@ void parse_words(CLI::App& app, std::vector<std::string> words, const std::strin
   } catch (const CLI::ParseError& error) {
     if (error.get_exit_code() == 0) throw;  // --help, --help-all
     const std::string message = cli_message(app, error);
-    for (const auto& key : config.empty() ? std::vector<std::string>{} : config_keys(config)) {
+    for (const auto& key : config == nullptr ? std::vector<std::string>{} : config->keys()) {
       const std::string option = "--" + key;
       if (!command_line_gives(typed, option) && message.rfind(option, 0) == 0 &&
           (message[option.size()] == ':' || message[option.size()] == ' ')) {
-        throw CliError(
-            fmt::format("--config {}: \"{}\"{}", config, shown_text(key), message.substr(option.size())));
+        throw CliError(fmt::format("--config {}: \"{}\"{}", config->file().string(), shown_text(key),
+                                   message.substr(option.size())));
       }
     }
     throw CliError(message + help_hint(app));
@@ -110,17 +110,18 @@ void parse_words(CLI::App& app, std::vector<std::string> words, const std::strin
 // that the command line overrides are parsed first, in their place, so that they are checked too.
 void parse(CLI::App& app, int argc, char** argv) {
   const std::vector<std::string> typed(argv, argv + argc);
-  const std::string config = config_file_of(typed);
-  if (config.empty()) return parse_words(app, typed, config, typed);
+  const std::string config_path = config_file_of(typed);
+  if (config_path.empty()) return parse_words(app, typed, nullptr, typed);
+  const ConfigFile config(config_path);
   const auto option_kind = [&](const std::string& name) {
     const CLI::Option* option = app.get_option_no_throw(name);
     if (option == nullptr) return OptionKind::unknown;
     return option->get_expected_min() == 0 ? OptionKind::flag : OptionKind::takes_value;
   };
-  if (const auto unoverridden = without_options_of_file(typed, config, option_kind); unoverridden != typed) {
-    parse_words(app, with_config_file(unoverridden, config, option_kind), config, unoverridden);
+  if (const auto unoverridden = config.without_its_options(typed, option_kind); unoverridden != typed) {
+    parse_words(app, config.merged_into(unoverridden, option_kind), &config, unoverridden);
   }
-  parse_words(app, with_config_file(typed, config, option_kind), config, typed);
+  parse_words(app, config.merged_into(typed, option_kind), &config, typed);
 }
 
 // Options that a run would otherwise ignore without a word.

@@ -35,22 +35,22 @@ TEST(ConfigFile, OptionsGoFirstTheGridAfterItsSubcommandAndTheCommandLineWins) {
   const Words expected = {"fscil-bench", "--methods", "prototype", "--threads", "2", "--save-model",
                           "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=1",
                           "--seeds", "3", "--set", "shot=5", "--config", file.string()};
-  EXPECT_EQ(with_config_file(command_line, file, run_option), expected);
+  EXPECT_EQ(ConfigFile(file).merged_into(command_line, run_option), expected);
   EXPECT_EQ(config_file_of(command_line), file.string());
   // An axis the command line sweeps replaces the file's axis and its fixed value.
   const Words sweeps_shot = {"fscil-bench", "sweep", "--grid", "shot=2,4"};
   const Words without_shot = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2", "--save-model",
                               "--set", "pic_weight=0.1", "sweep", "--grid", "pspc_probes=5,50", "--grid", "shot=2,4"};
-  EXPECT_EQ(with_config_file(sweeps_shot, file, run_option), without_shot);
+  EXPECT_EQ(ConfigFile(file).merged_into(sweeps_shot, run_option), without_shot);
   // CLI11 reads `--set a=1 shot=5` as one --set of two values: shot is the command line's there too.
   const Words two_values = {"fscil-bench", "--set", "pic_weight=0.2", "shot=5"};
   const Words only_the_command_lines = {"fscil-bench", "--methods", "prototype", "--seeds", "1-2", "--threads", "2",
                                         "--save-model", "--set", "pic_weight=0.2", "shot=5"};
   const auto set_only = write(directory, R"({"methods": "prototype", "seeds": "1-2", "threads": 2, "save-model": true,
     "set": {"shot": 3, "pic_weight": 0.1}})");
-  EXPECT_EQ(with_config_file(two_values, set_only, run_option), only_the_command_lines);
+  EXPECT_EQ(ConfigFile(set_only).merged_into(two_values, run_option), only_the_command_lines);
   const auto flags = write(directory, R"({"set": {"use_cutmix": true, "temperature": 16}})");
-  EXPECT_EQ(config_settings(flags), (std::vector<std::pair<std::string, std::string>>{{"use_cutmix", "true"},
+  EXPECT_EQ(ConfigFile(flags).settings(), (std::vector<std::pair<std::string, std::string>>{{"use_cutmix", "true"},
                                                                                       {"temperature", "16"}}));
   EXPECT_EQ(config_file_of({"fscil-bench", "--config=a.json"}), "a.json");
   EXPECT_EQ(config_file_of({"fscil-bench", "list"}), "");
@@ -62,15 +62,17 @@ TEST(ConfigFile, WithoutTheOptionsOfTheFileLeavesTheFilesValuesToBeChecked) {
   const Words command_line = {"fscil-bench", "plan", "--threads", "2", "--quiet", "--threads=3", "--seeds", "1",
                               "--set", "shot=5", "--config", file.string()};
   const Words unoverridden = {"fscil-bench", "plan", "--seeds", "1", "--set", "shot=5", "--config", file.string()};
-  EXPECT_EQ(without_options_of_file(command_line, file, run_option), unoverridden);
+  const ConfigFile config(file);
+  std::filesystem::remove(file);  // read once, when constructed: the parse is not repeated per use
+  EXPECT_EQ(config.without_its_options(command_line, run_option), unoverridden);
   const Words file_values = {"fscil-bench", "--threads", "many", "--quiet", "plan", "--seeds", "1", "--set", "shot=5",
                              "--config", file.string()};
-  EXPECT_EQ(with_config_file(unoverridden, file, run_option), file_values);
-  EXPECT_EQ(without_options_of_file({"fscil-bench", "--threads"}, file, run_option), Words{"fscil-bench"});  // a value cut off
-  // A value the command line overrides is read by the file's rules all the same (run.json rewritten).
+  EXPECT_EQ(config.merged_into(unoverridden, run_option), file_values);
+  EXPECT_EQ(config.without_its_options({"fscil-bench", "--threads"}, run_option), Words{"fscil-bench"});  // a value cut off
+  // A value the command line overrides is read by the file's rules all the same.
   const auto flag_with_value = write(directory, R"({"quiet": "yes"})");
-  EXPECT_THROW(with_config_file(without_options_of_file({"fscil-bench", "--quiet"}, flag_with_value, run_option),
-                                flag_with_value, run_option),
+  const ConfigFile quiet_yes(flag_with_value);
+  EXPECT_THROW(quiet_yes.merged_into(quiet_yes.without_its_options({"fscil-bench", "--quiet"}, run_option), run_option),
                CliError);
 }
 
@@ -95,7 +97,7 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
   for (const auto& [text, message] : bad) {
     const auto file = write(directory, text);
     try {
-      with_config_file({"fscil-bench"}, file, run_option);
+      ConfigFile(file).merged_into({"fscil-bench"}, run_option);
       ADD_FAILURE() << "accepted: " << text;
     } catch (const CliError& error) {
       EXPECT_NE(std::string(error.what()).find("--config " + file.string() + ": "), std::string::npos) << error.what();
@@ -103,7 +105,7 @@ TEST(ConfigFile, BadFilesAreOneErrorNamingTheFileAndTheKey) {
     }
   }
   // Read by the one file reader: a bad input naming the file (exit 1), not a malformed option.
-  EXPECT_THROW(with_config_file({"fscil-bench"}, directory.path() / "missing.json", run_option), FileError);
+  EXPECT_THROW(ConfigFile(directory.path() / "missing.json"), FileError);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <tuple>
 
 #include "datasets/dataset_catalog.h"
@@ -127,15 +128,24 @@ RunOptions cell_run_options(const RunOptions& options, const BenchCell& cell) {
   return run;
 }
 
-bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
-  const RunOptions run = cell_run_options(options, cell);
-  return std::all_of(cell.methods.begin(), cell.methods.end(), [&](const std::string& method) {
+namespace {
+
+// The result of every run of the cell, in cell.methods' order, each file read once; nothing when
+// one is missing. A damaged file is one error naming it, never a cell counted as done.
+std::optional<std::vector<RunRecord>> cell_records(const RunOptions& run, const BenchCell& cell) {
+  std::vector<RunRecord> records;
+  for (const std::string& method : cell.methods) {
     const fs::path file = result_file_of(run, cell, method);
-    if (!fs::exists(file)) return false;
-    // A damaged file is one error naming it, never a cell counted as done.
-    run_record_from_json_text(read_text_file(file), file.string());
-    return true;
-  });
+    if (!fs::exists(file)) return std::nullopt;
+    records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
+  }
+  return records;
+}
+
+}  // namespace
+
+bool cell_has_results(const RunOptions& options, const BenchCell& cell) {
+  return cell_records(cell_run_options(options, cell), cell).has_value();
 }
 
 namespace {
@@ -166,16 +176,15 @@ bool is_run_of(const RunRecord& record, const RunOptions& run, const BenchCell& 
 
 void add_measured_seconds(const RunOptions& options, std::vector<BenchCell>& cells) {
   for (BenchCell& cell : cells) {
-    if (!cell_has_results(options, cell)) continue;
     const RunOptions run = cell_run_options(options, cell);
+    const auto records = cell_records(run, cell);
+    if (!records) continue;
     double seconds = 0;
     bool of_this_command = true;
-    for (const std::string& method : cell.methods) {
-      const fs::path file = result_file_of(run, cell, method);
-      const RunRecord record = run_record_from_json_text(read_text_file(file), file.string());
-      of_this_command = of_this_command && is_run_of(record, run, cell, method);
+    for (std::size_t i = 0; i < records->size(); ++i) {
+      of_this_command = of_this_command && is_run_of((*records)[i], run, cell, cell.methods[i]);
       // A run continuing from a base another run of its cell trained counts only its sessions.
-      seconds += record.total_seconds;
+      seconds += (*records)[i].total_seconds;
     }
     if (of_this_command) cell.measured_seconds = seconds;
   }

@@ -44,6 +44,11 @@ bool keyed_on_command_line(const std::vector<std::string>& command_line, const s
   return false;
 }
 
+// Whether `word` of a command line gives `option`: `--threads` (its value the next word) or `--threads=2`.
+bool gives_option(const std::string& word, const std::string& option) {
+  return word == option || word.rfind(option + "=", 0) == 0;
+}
+
 bool swept_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
   return keyed_on_command_line(command_line, "--grid", key);
 }
@@ -77,45 +82,42 @@ std::vector<std::pair<std::string, std::string>> settings_of(const json& value, 
 }  // namespace
 
 bool command_line_gives(const std::vector<std::string>& command_line, const std::string& option) {
-  return std::any_of(command_line.begin(), command_line.end(), [&](const std::string& word) {
-    return word == option || word.rfind(option + "=", 0) == 0;
-  });
+  return std::any_of(command_line.begin(), command_line.end(),
+                     [&](const std::string& word) { return gives_option(word, option); });
 }
 
-std::vector<std::string> config_keys(const std::filesystem::path& file) {
+ConfigFile::ConfigFile(std::filesystem::path file)
+    : file_(std::move(file)), json_(std::make_shared<const json>(parse_config(file_))) {}
+
+std::vector<std::string> ConfigFile::keys() const {
   std::vector<std::string> keys;
-  const json config = parse_config(file);
-  for (const auto& [key, value] : config.items()) keys.push_back(key);
+  for (const auto& [key, value] : json_->items()) keys.push_back(key);
   return keys;
 }
 
-std::vector<std::string> without_options_of_file(const std::vector<std::string>& command_line,
-                                                 const std::filesystem::path& file,
-                                                 const std::function<OptionKind(const std::string&)>& option_kind) {
+std::vector<std::string> ConfigFile::without_its_options(const std::vector<std::string>& command_line,
+                                                         const OptionKindOf& option_kind) const {
   std::vector<std::string> kept = command_line;
-  const json config = parse_config(file);
-  for (const auto& [key, value] : config.items()) {
+  for (const auto& [key, value] : json_->items()) {
     if (key == "set" || key == "grid" || key == "config") continue;
     const std::string option = "--" + key;
     const std::size_t words = option_kind(option) == OptionKind::takes_value ? 2 : 1;
     for (std::size_t i = 1; i < kept.size();) {
-      if (kept[i].rfind(option + "=", 0) == 0) {
-        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i));
-      } else if (kept[i] == option) {
-        kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i),
-                   kept.begin() + static_cast<std::ptrdiff_t>(std::min(i + words, kept.size())));
-      } else {
+      if (!gives_option(kept[i], option)) {
         ++i;
+        continue;
       }
+      const std::size_t given = kept[i] == option ? words : 1;  // `--threads 2` or `--threads=2`
+      kept.erase(kept.begin() + static_cast<std::ptrdiff_t>(i),
+                 kept.begin() + static_cast<std::ptrdiff_t>(std::min(i + given, kept.size())));
     }
   }
   return kept;
 }
 
-std::vector<std::pair<std::string, std::string>> config_settings(const std::filesystem::path& file) {
-  const json config = parse_config(file);
-  if (!config.contains("set")) return {};
-  return settings_of(config.at("set"), fmt::format("--config {}: \"set\"", file.string()));
+std::vector<std::pair<std::string, std::string>> ConfigFile::settings() const {
+  if (!json_->contains("set")) return {};
+  return settings_of(json_->at("set"), fmt::format("--config {}: \"set\"", file_.string()));
 }
 
 std::string config_file_of(const std::vector<std::string>& command_line) {
@@ -126,14 +128,12 @@ std::string config_file_of(const std::vector<std::string>& command_line) {
   return {};
 }
 
-std::vector<std::string> with_config_file(const std::vector<std::string>& command_line,
-                                          const std::filesystem::path& file,
-                                          const std::function<OptionKind(const std::string&)>& option_kind) {
-  const json config = parse_config(file);
+std::vector<std::string> ConfigFile::merged_into(const std::vector<std::string>& command_line,
+                                                 const OptionKindOf& option_kind) const {
   std::vector<std::string> options;  // after the program name
   std::vector<std::string> grid;     // after the subcommand
-  for (const auto& [key, value] : config.items()) {
-    const std::string where = fmt::format("--config {}: \"{}\"", file.string(), shown_text(key));
+  for (const auto& [key, value] : json_->items()) {
+    const std::string where = fmt::format("--config {}: \"{}\"", file_.string(), shown_text(key));
     if (key == "set") {
       for (const auto& [name, setting] : settings_of(value, where)) {
         if (!swept_on_command_line(command_line, name) && !keyed_on_command_line(command_line, "--set", name)) {
@@ -181,7 +181,7 @@ std::vector<std::string> with_config_file(const std::vector<std::string>& comman
     }
   }
   if (!grid_placed) {
-    throw CliError(fmt::format("--config {}: \"grid\" needs the sweep, plan, run-cells or slurm subcommand", file.string()));
+    throw CliError(fmt::format("--config {}: \"grid\" needs the sweep, plan, run-cells or slurm subcommand", file_.string()));
   }
   return merged;
 }

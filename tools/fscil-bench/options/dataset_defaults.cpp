@@ -26,7 +26,7 @@ void apply_dataset_defaults(const std::string& dataset, ParameterSet& params) {
   }
   const auto file = folder / (config + ".json");
   if (!std::filesystem::exists(file)) return;
-  for (const auto& [key, value] : config_settings(file)) params.set_default(key, value);
+  for (const auto& [key, value] : ConfigFile(file).settings()) params.set_default(key, value);
 }
 
 }  // namespace fscil
