@@ -48,7 +48,6 @@ TEST(CosineClassifier, ScoresTemperatureTimesCosineOverSeenRowsOnly) {
 class PrototypeOnSimtexMini : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    torch::set_num_threads(2);
     std::stringstream log;
     dataset_ = new PreparedDataset(prepare_dataset("simtex-mini", DatasetRequest{}, ParameterSet(), log));
   }

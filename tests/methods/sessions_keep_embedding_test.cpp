@@ -20,7 +20,8 @@ ParameterSet short_training() {
            {"orco_base_epochs", "2"}, {"orco_views", "2"}, {"orco_target_steps", "50"},
            {"orco_projector_hidden", "32"}, {"orco_projection_size", "16"}, {"orco_session_epochs", "3"},
            {"orco_session_stop", "last"}, {"pan_pit_episodes", "2"}, {"dsn_session_epochs", "3"}, {"comp_session_steps", "5"},
-           {"ldc_calibration_epochs", "2"}, {"ldc_session_epochs", "3"}}) {
+           {"ldc_calibration_epochs", "2"}, {"ldc_session_epochs", "3"}, {"pa_pct_epochs", "1"},
+           {"pa_pct_episodes", "2"}}) {
     params.set(key, value);
   }
   return params;
