@@ -15,7 +15,9 @@ fail() {
 rm -rf "$work"
 mkdir -p "$work"
 launcher=()
-if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+# Paths below the source tree hashed as relative ones (as the main build does): a CI clone in
+# another folder reuses the example's object an earlier clone compiled.
+if command -v ccache >/dev/null; then launcher=("-DCMAKE_CXX_COMPILER_LAUNCHER=env;CCACHE_BASEDIR=$source_dir;ccache"); fi
 cmake -S "$source_dir/examples/out_of_tree_method" -B "$work/build" -DCMAKE_PREFIX_PATH="$prefix" "${launcher[@]}" \
   >"$work/configure.log" 2>&1 || fail "configure against $prefix: $(grep -m 3 -i -A 2 error "$work/configure.log")"
 cmake --build "$work/build" -j 2 >"$work/build.log" 2>&1 || fail "build: $(grep -m 3 -i -A 2 error "$work/build.log")"
