@@ -67,27 +67,34 @@ std::pair<std::vector<double>, std::vector<double>> paired_values(const SummaryR
 }
 
 // Which rows of a column are bold. The best mean (after rounding to the two decimals shown, so
-// ties are all bold; among honest rows only: epochs chosen on test are never best), and every
-// row a paired t-test over the seeds both ran cannot separate from it (two-sided, Holm-corrected
-// over the column's rows, 0.05): "best" says only what the seeds support. A row with fewer than
-// kFewestSeedsForInference seeds in common with the best is not tested, and stays plain unless
-// its mean ties the best's.
+// ties are all bold; among honest rows only: epochs chosen on test are never best) of the rows
+// with the most seeds, and every row a paired t-test over the seeds both ran cannot separate
+// from it (two-sided, Holm-corrected over the column's rows, 0.05): "best" says only what the
+// seeds support. A mean over fewer seeds is over other seeds, so it is never the best: such a
+// row is bold only where that test supports it, and a row with fewer than
+// kFewestSeedsForInference seeds in common with the best is not tested and stays plain.
 std::vector<bool> bold_rows(const Column& column, const std::vector<const SummaryRow*>& rows) {
   std::vector<bool> bold(rows.size(), false);
   if (rows.size() < 2) return bold;
+  const auto honest = [&](std::size_t r) {
+    return column.value(*rows[r]) != nullptr && rows[r]->selection != "test-oracle";
+  };
+  std::size_t most_seeds = 0;
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (honest(r)) most_seeds = std::max(most_seeds, column.value(*rows[r])->values.size());
+  }
+  const auto contends = [&](std::size_t r) { return honest(r) && column.value(*rows[r])->values.size() == most_seeds; };
   std::optional<double> best;
-  for (const auto* row : rows) {
-    const SeedStatistic* value = column.value(*row);
-    if (value == nullptr || row->selection == "test-oracle") continue;
-    const double shown = std::round(value->mean * 100);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (!contends(r)) continue;
+    const double shown = std::round(column.value(*rows[r])->mean * 100);
     if (!best || (column.higher_is_better ? shown > *best : shown < *best)) best = shown;
   }
   if (!best) return bold;
   std::size_t leader = rows.size();
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    const SeedStatistic* value = column.value(*rows[r]);
-    if (value == nullptr || rows[r]->selection == "test-oracle") continue;
-    bold[r] = std::round(value->mean * 100) == *best;
+    if (!contends(r)) continue;
+    bold[r] = std::round(column.value(*rows[r])->mean * 100) == *best;
     if (bold[r] && leader == rows.size()) leader = r;
   }
   std::vector<std::size_t> tested;
@@ -111,6 +118,8 @@ std::string cell(const SeedStatistic* statistic, const Column& column, bool with
                  const char* interval = "[{:.2f}, {:.2f}]") {
   if (statistic == nullptr) return "";
   if (!with_std) return fmt::format("{:.2f}", statistic->mean);
+  // One seed has no spread; "± 0.00" would claim one.
+  if (statistic->values.size() < 2) return fmt::format("{:.2f}{}-", statistic->mean, plus_minus);
   std::string text = fmt::format("{:.2f}{}{:.2f}", statistic->mean, plus_minus, statistic->std);
   if (static_cast<int>(statistic->values.size()) < kFewestSeedsForInference) return text;
   return text + " " + fmt::format(fmt::runtime(interval), std::max(column.low, statistic->mean - statistic->ci95),
@@ -125,8 +134,9 @@ std::string statistics_note(bool with_std) {
   return fmt::format("Mean ± standard deviation over seeds; in brackets the 95% confidence interval of the mean "
                      "(Student t), clipped to the metric's range, for rows of {0} seeds or more. Bold: the best mean "
                      "and every row a paired t-test across the seeds both ran cannot separate from it (two-sided, "
-                     "Holm-corrected over the column, 0.05); rows of fewer than {0} seeds in common with the best are "
-                     "not tested and bold only where their mean ties it.", kFewestSeedsForInference);
+                     "Holm-corrected over the column, 0.05); the best is taken among the rows of the most seeds, and "
+                     "rows of fewer than {0} seeds in common with it are not tested: bold only where they have as many "
+                     "seeds and their mean ties it. A row of one seed has no spread (-).", kFewestSeedsForInference);
 }
 
 // A row whose base training was still rising, or did not learn, is marked; its footnote says how.
@@ -175,12 +185,16 @@ std::string render_csv(const SummaryTable& table) {
       out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].mean) : ",";
     }
     if (with_std) {
-      out += fmt::format(",{:.4f},{:.4f},{:.4f}", row->average_accuracy.std, row->performance_drop.std,
-                         row->average_drop_rate.std);
+      // A spread from one seed, or an interval from fewer than kFewestSeedsForInference, says
+      // nothing: left empty.
+      const bool spread = row->seeds.size() >= 2;
+      const auto std_of = [&](const SeedStatistic& statistic) {
+        return spread ? fmt::format(",{:.4f}", statistic.std) : std::string(",");
+      };
+      out += std_of(row->average_accuracy) + std_of(row->performance_drop) + std_of(row->average_drop_rate);
       for (std::size_t s = 0; s < sessions; ++s) {
-        out += s < row->session_accuracy.size() ? fmt::format(",{:.4f}", row->session_accuracy[s].std) : ",";
+        out += s < row->session_accuracy.size() ? std_of(row->session_accuracy[s]) : ",";
       }
-      // An interval from fewer seeds says nothing: left empty.
       const bool inferred = static_cast<int>(row->seeds.size()) >= kFewestSeedsForInference;
       const auto ci95 = [&](const SeedStatistic& statistic) {
         return inferred ? fmt::format(",{:.4f}", statistic.ci95) : std::string(",");

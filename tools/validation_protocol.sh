@@ -77,11 +77,13 @@ if [ "${1:-}" = --table ]; then
   for dir in "$out"/*/*/; do
     [ -f "$dir/summary.csv" ] || continue
     name=$(basename "$(dirname "$dir")") setting=$(basename "$dir")
-    # summary.csv: method,dataset,split,seeds,AA,PD,ADR,acc_0..acc_S, then the _std and _ci95 columns
+    # summary.csv: method,dataset,split,seeds,AA,PD,ADR,acc_0..acc_S, then the _std and _ci95
+    # columns (absent with one seed in the folder, empty for a row of one seed)
     awk -F, -v name="$name" -v setting="$setting" '
+      function spread(key) { return (key in col) && $col[key] != "" ? sprintf("%.2f", $col[key]) : "-" }
       NR == 1 { for (i = 1; i <= NF; i++) { col[$i] = i; if ($i ~ /^acc_[0-9]+$/) last = i }; next }
-      { printf "| %s | %s | %.2f ± %.2f | %.2f ± %.2f | %.2f |\n", name, setting, $col["AA"], $col["AA_std"],
-               $col["PD"], $col["PD_std"], $last }' "$dir/summary.csv"
+      { printf "| %s | %s | %.2f ± %s | %.2f ± %s | %.2f |\n", name, setting, $col["AA"], spread("AA_std"),
+               $col["PD"], spread("PD_std"), $last }' "$dir/summary.csv"
   done
   exit 0
 fi

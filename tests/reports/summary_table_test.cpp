@@ -611,6 +611,29 @@ TEST(SummaryTable, BoldIsTheBestAndWhatAPairedTestCannotSeparateFromIt) {
   EXPECT_NE(latex.find("pits-sc & \\textbf{79.33$\\pm$3.51 {\\scriptsize[70.61, 88.06]}}"), std::string::npos) << latex;
 }
 
+// A table whose folder has runs still missing: one method of one seed beside methods of two. Its
+// mean is over another set of seeds, so it was bold as "the best" with a spread of "± 0.00".
+TEST(SummaryTable, AMeanOverFewerSeedsIsNeverTheBestAndOneSeedHasNoSpread) {
+  std::vector<RunRecord> runs;
+  const auto add = [&](const char* method, std::vector<double> aa) {
+    for (std::size_t s = 0; s < aa.size(); ++s) runs.push_back(record_of(method, s + 1, {aa[s], aa[s]}));
+  };
+  add("pa-pct", {90});
+  add("pan", {80, 82});
+  add("prototype", {70, 74});
+  const SummaryTable table = summarize_runs(runs);
+  const std::string markdown = render_markdown(table);
+  EXPECT_NE(markdown.find("| pa-pct | 90.00 ± - |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| pan | **81.00 ± 1.41** |"), std::string::npos) << markdown;
+  EXPECT_NE(markdown.find("| prototype | 72.00 ± 2.83 |"), std::string::npos) << markdown;
+  EXPECT_NE(render_latex(table).find("pa-pct & 90.00$\\pm$- &"), std::string::npos) << render_latex(table);
+  const std::string csv = render_csv(table);
+  EXPECT_NE(csv.find("pa-pct,simtex,test,last,fp32,1,90.0000,0.0000,0.0000,90.0000,90.0000,,,,,,,,,,,not recorded,\n"),
+            std::string::npos) << csv;
+  EXPECT_NE(csv.find("pan,simtex,test,last,fp32,1 2,81.0000,0.0000,0.0000,81.0000,81.0000,1.4142,"), std::string::npos)
+      << csv;
+}
+
 TEST(SummaryTable, AnIntervalIsClippedToWhatTheMetricCanTake) {
   const std::string markdown = render_markdown(summarize_runs(
       {record_of("prototype", 1, {100, 100}), record_of("prototype", 2, {99, 99}), record_of("prototype", 3, {100, 100})}));
