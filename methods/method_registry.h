@@ -25,6 +25,7 @@ struct RunSizes {
   int removing_sessions = 0;         // of them, sessions that only remove classes and train nothing
   std::int64_t sample_values = 0;    // one sample's log-Mel values (channels x Mel bins x frames)
   std::vector<std::int64_t> scored;  // per session: the samples it scores (every class seen by then)
+  int timed_inference_passes = 8;    // the runner's inference timing: its warm-up and the profile's timed passes
   // Per session s (index s; 0, the base session, holds 0): the base and the novel classes present as
   // it begins, seen and not removed. The runner fills them; sizes made by hand without them are
   // add-only ones, every session adding `way`.

@@ -7,6 +7,7 @@
 #include "datasets/prepared_dataset.h"
 #include "methods/method.h"
 #include "metrics/session_outcome.h"
+#include "protocols/profiles.h"
 #include "protocols/scored_embeddings.h"
 #include "protocols/session_schedule.h"
 
@@ -65,7 +66,6 @@ struct InferenceTiming {
 // of one batch of up to `batch` test samples through embed() and classify(), after one untimed
 // warm-up pass.
 constexpr std::int64_t kTimedInferenceBatch = 128;
-constexpr int kTimedInferenceRepeats = 7;
 InferenceTiming time_inference(Method& method, const PreparedDataset& dataset, const SessionSchedule& schedule,
                                std::int64_t batch = kTimedInferenceBatch, int repeats = kTimedInferenceRepeats);
 

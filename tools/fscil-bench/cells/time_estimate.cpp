@@ -34,7 +34,6 @@ namespace {
 constexpr const char* kRatesFile = "step_rates.json";
 constexpr double kIdleOwnShare = 0.9;     // (ours) of its threads' time, at least
 constexpr double kIdleOthersCores = 0.2;  // (ours) other work's cores, less than: an idle VM's own noise is some 0.05
-constexpr int kTimedInferencePasses = 1 + kTimedInferenceRepeats;  // time_inference's warm-up and timed passes
 // A run's step against the calibration's median step (ours, docs/profiling.md): base epochs took
 // 1.18-1.45 times the calibration on the main job's shape, and 0.94 times on the NS-100 shape,
 // whose calibrations ranged 11.7-15.4 ms a sample within a minute on this VM; 1.1 is the mean of
@@ -206,7 +205,7 @@ double run_seconds(const MethodEntry& entry, const ParameterSet& read, const Run
   inferred += entry.sessions_keep_embedding
                   ? static_cast<double>(sizes.scored.back())
                   : static_cast<double>(std::accumulate(sizes.scored.begin(), sizes.scored.end(), std::int64_t{0}));
-  inferred += kTimedInferencePasses * static_cast<double>(std::min(kTimedInferenceBatch, sizes.scored.back()));
+  inferred += sizes.timed_inference_passes * static_cast<double>(std::min(kTimedInferenceBatch, sizes.scored.back()));
   return kRunOverCalibration * (trained * rates.train_seconds_per_sample + inferred * rates.infer_seconds_per_sample +
                                 head_steps * rates.head_step_seconds);
 }

@@ -614,7 +614,8 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
 // Step 5: the run's record, written as its result file; its base kept for the next method.
 void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns& runs, RunInProgress& run,
                 const std::vector<SessionOutcome>& outcomes) {
-  const InferenceTiming timing = time_inference(*run.method, plan.dataset, plan.schedules[run.schedule]);
+  const InferenceTiming timing = time_inference(*run.method, plan.dataset, plan.schedules[run.schedule],
+                                                kTimedInferenceBatch, profile_named(options.profile).timed_inference_passes);
   const ModelCost cost = run.method->inference_cost(plan.input);
   RunRecord& record = run.record;
   record.machine = runs.machine;
@@ -747,6 +748,7 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     run.shot = schedule.plan.shot;
     run.sessions = schedule.plan.sessions;
     run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
+    run.timed_inference_passes = 1 + profile_named(options.profile).timed_inference_passes;
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
     std::vector<int> removed;  // the classes removed by the session before this one
     for (int session = 0; session < run.sessions; ++session) {
