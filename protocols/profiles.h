@@ -6,12 +6,12 @@ namespace fscil {
 
 class ParameterSet;
 
-// A schedule length. What it changes in a method's schedule is the method's registry entry's to
-// say (MethodEntry::profile_defaults); the profile names and describes itself, and says how many
-// timed passes measure a run's inference time (protocols/protocol_runner.h, time_inference).
 // Timed passes of a run's inference time where the profile does not say fewer.
 constexpr int kTimedInferenceRepeats = 7;
 
+// A schedule length. What it changes in a method's schedule is the method's registry entry's to
+// say (MethodEntry::profile_defaults); the profile names and describes itself, and says how many
+// timed passes measure a run's inference time (protocols/protocol_runner.h, time_inference).
 struct Profile {
   const char* name;
   const char* summary;

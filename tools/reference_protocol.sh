@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The protocols whose numbers reports/reference/ stores: every registered method on simtex-mini
 # (simtex-mini-smoke.csv) and on sf-instruments-mini (sf-instruments-mini-smoke.csv), seed 1,
-# smoke profile, 1 thread, on AVX2 kernels. One seed and one thread each keep the whole CI within
-# its 20 minutes: ctest runs the two data sets as two tests beside each other (both, one after the
-# other at 2 threads, held both cores for 173 s on an AMD EPYC; one at 1 thread took 107 s), and
-# that another seed changes the numbers is
+# smoke profile, 1 thread, on AVX2 kernels. One seed and one thread each keep the test suite's
+# time down (CI's budget is 20 minutes, docs/profiling.md): ctest runs the two data sets as two
+# tests beside each other (both, one after the other at 2 threads, held both cores for 173 s on an
+# AMD EPYC; one at 1 thread took 107 s), and that another seed changes the numbers is
 # Cli.TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot's to check.
 #   bash tools/reference_protocol.sh check [FSCIL_BENCH [DATASET]]       run it, compare (ctest and CI)
 #   bash tools/reference_protocol.sh regenerate [FSCIL_BENCH [DATASET]]  run it, overwrite the stored numbers
