@@ -29,20 +29,15 @@ const std::vector<Profile>& profiles() {
   return table;
 }
 
-const Profile& profile_named(const std::string& name) {
+const Profile& require_profile(const std::string& name, const std::string& where) {
   const auto found = std::find_if(profiles().begin(), profiles().end(), [&](const Profile& p) { return name == p.name; });
-  if (found == profiles().end()) require_profile(name);  // throws, naming the profiles there are
-  return *found;
-}
-
-void require_profile(const std::string& name, const std::string& where) {
-  const bool known = std::any_of(profiles().begin(), profiles().end(), [&](const Profile& p) { return name == p.name; });
-  if (!known) {
+  if (found == profiles().end()) {
     std::vector<std::string> names;
     for (const auto& profile : profiles()) names.emplace_back(profile.name);
     throw ProtocolError(fmt::format("{}unknown profile '{}': expected one of {}", where.empty() ? "" : where + ": ",
                                     shown_text(name), fmt::join(names, ", ")));
   }
+  return *found;
 }
 
 void apply_profile(const std::string& name, ParameterSet& params) {

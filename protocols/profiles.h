@@ -19,12 +19,10 @@ struct Profile {
 };
 
 const std::vector<Profile>& profiles();
-// The named profile; throws ProtocolError as require_profile does.
-const Profile& profile_named(const std::string& name);
+// The named profile; throws ProtocolError unless `name` is a profile (`where`, a file, starts the message).
+const Profile& require_profile(const std::string& name, const std::string& where = "");
 // Applies every registered method's defaults for the named profile (before --set); throws
 // ProtocolError for an unknown name, MethodError where two methods shorten one key differently.
-// Throws ProtocolError unless `name` is a profile; `where` (a file) starts the message.
-void require_profile(const std::string& name, const std::string& where = "");
 void apply_profile(const std::string& name, ParameterSet& params);
 
 }  // namespace fscil

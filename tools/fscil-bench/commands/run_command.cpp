@@ -615,7 +615,7 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
 void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns& runs, RunInProgress& run,
                 const std::vector<SessionOutcome>& outcomes) {
   const InferenceTiming timing = time_inference(*run.method, plan.dataset, plan.schedules[run.schedule],
-                                                kTimedInferenceBatch, profile_named(options.profile).timed_inference_passes);
+                                                kTimedInferenceBatch, require_profile(options.profile).timed_inference_passes);
   const ModelCost cost = run.method->inference_cost(plan.input);
   RunRecord& record = run.record;
   record.machine = runs.machine;
@@ -738,6 +738,7 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
                      SupervisedSchedule::from(params).batch_size, {},
                      options.no_cache ? std::string() : cache_folder(options).string(), {},
                      describe_removal(plan.schedules.front().plan)};
+  const int timed_inference_passes = 1 + require_profile(options.profile).timed_inference_passes;  // and the warm-up
   for (std::size_t i = 0; i < plan.seeds.size(); ++i) {
     const SessionSchedule& schedule = plan.schedules[i];
     RunSizes run;
@@ -748,7 +749,7 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     run.shot = schedule.plan.shot;
     run.sessions = schedule.plan.sessions;
     run.sample_values = plan.input.channels * plan.input.mel_bins * plan.input.frames;
-    run.timed_inference_passes = 1 + profile_named(options.profile).timed_inference_passes;
+    run.timed_inference_passes = timed_inference_passes;
     const std::vector<std::int64_t>& scored = schedule.scored_segments(plan.evaluation);
     std::vector<int> removed;  // the classes removed by the session before this one
     for (int session = 0; session < run.sessions; ++session) {
