@@ -86,6 +86,11 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
   refuse_plus_sign(key, *value);
   const auto parsed = parse_number<std::int64_t>(*value);
   if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
+  // "05" or "-0" beside "5" or "0" would be another run of one value, as "+5" would.
+  if (*value != std::to_string(*parsed)) {
+    throw ProtocolError(fmt::format("parameter {}='{}': expected the integer as {} (the value's text names the run)",
+                                    key, shown_text(*value), *parsed));
+  }
   if (!valid.contains(static_cast<double>(*parsed))) {
     throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, shown_text(*value), valid.describe()));
   }

@@ -3,6 +3,7 @@
 #include <H5Cpp.h>
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -55,6 +56,20 @@ std::vector<hsize_t> dims_of(const H5::DataSet& dataset) {
   std::vector<hsize_t> dims(space.getSimpleExtentNdims());
   space.getSimpleExtentDims(dims.data());
   return dims;
+}
+
+// A dataset's shape is the file's word, not its data's: a few hundred bytes of HDF5 can declare
+// 2^40 values, which would end in std::bad_alloc or the kernel's out-of-memory killer. What would
+// not fit in this machine's memory is refused before anything is allocated.
+void require_fits_in_memory(const fs::path& path, const std::string& name, const std::vector<hsize_t>& dims,
+                            double value_bytes) {
+  const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGESIZE));
+  double bytes = value_bytes;
+  for (const hsize_t size : dims) bytes *= static_cast<double>(size);
+  if (bytes > memory) {
+    throw DatasetError(fmt::format("{}: dataset '{}' declares {} values ({:.1f} GB), more than this machine's memory "
+                                   "({:.1f} GB)", path.string(), name, fmt::join(dims, " x "), bytes / 1e9, memory / 1e9));
+  }
 }
 
 template <typename Reader>
@@ -195,6 +210,7 @@ FloatArray read_hdf5_floats(const fs::path& path, const std::string& name, int e
       throw DatasetError(fmt::format("{}: dataset '{}' has {} dimensions, expected {}", path.string(),
                                      name, dims.size(), expected_rank));
     }
+    require_fits_in_memory(path, name, dims, sizeof(float));
     FloatArray array(std::vector<std::int64_t>(dims.begin(), dims.end()));
     dataset.read(array.values.data(), H5::PredType::NATIVE_FLOAT);
     return array;
@@ -209,6 +225,7 @@ std::vector<std::int32_t> read_hdf5_integers(const fs::path& path, const std::st
     if (dims.size() != 1 || dataset.getTypeClass() != H5T_INTEGER) {
       throw DatasetError(fmt::format("{}: dataset '{}' is not a 1-D integer vector", path.string(), name));
     }
+    require_fits_in_memory(path, name, dims, sizeof(std::int32_t));
     std::vector<std::int32_t> values(dims[0]);
     dataset.read(values.data(), H5::PredType::NATIVE_INT32);
     return values;
@@ -252,6 +269,7 @@ Hdf5Table read_hdf5_table(const fs::path& path, const std::string& name) {
       throw DatasetError(fmt::format("{}: dataset '{}' has {} columns but names {}", path.string(), name, dims[1],
                                      table.columns.size()));
     }
+    require_fits_in_memory(path, name, dims, sizeof(double));
     table.values.resize(dims[0] * dims[1]);
     if (!table.values.empty()) dataset.read(table.values.data(), H5::PredType::NATIVE_DOUBLE);
     return table;

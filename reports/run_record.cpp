@@ -182,8 +182,9 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
     }
   }
   const auto sessions = protocol_value("sessions");
-  if (sessions && static_cast<std::int64_t>(record.sessions.size()) > *sessions) {
-    throw ReportError(fmt::format("{}: {} sessions recorded, expected at most the protocol's {}", origin,
+  // A result file is written once its run's last session has ended.
+  if (sessions && static_cast<std::int64_t>(record.sessions.size()) != *sessions) {
+    throw ReportError(fmt::format("{}: {} sessions recorded, expected the protocol's {}", origin,
                                   record.sessions.size(), *sessions));
   }
   const bool removes_classes = removal_of(record) != "none";
@@ -333,9 +334,14 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   if (const std::string why = why_not_a_folder(directory); !why.empty()) {
     throw ReportError(fmt::format("{}: {} (expected the --out folder of a run)", directory.string(), why));
   }
+  // An --out folder (one with results/ or cells/) keeps its result files in folders named results,
+  // beside which a config file, a user's notes or an old copy may lie; any other folder is one of
+  // result files, read whole.
+  const bool out_folder = fs::is_directory(directory / "results") || fs::is_directory(directory / "cells");
   std::vector<fs::path> files;
   for (const auto& entry : fs::recursive_directory_iterator(directory)) {
     if (entry.path().extension() != ".json") continue;
+    if (out_folder && entry.path().parent_path().filename() != "results") continue;
     // A folder or a FIFO named like a result is named as what it is, not passed over.
     if (const std::string why = why_not_a_regular_file(entry.path()); !why.empty()) {
       throw ReportError(fmt::format("{}: {}, expected a result file", entry.path().string(), why));

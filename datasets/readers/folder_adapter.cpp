@@ -152,7 +152,16 @@ std::map<std::string, double> parse_context(const std::string& text, const std::
     if (equals == std::string::npos || equals == 0) {
       throw DatasetError(fmt::format("{}: context '{}', expected key=number pairs separated by ';'", where, shown_text(item)));
     }
-    context[item.substr(0, equals)] = parse_finite_float(item.substr(equals + 1), where + " context " + shown_text(item));
+    const std::string key = item.substr(0, equals);
+    const double value = parse_finite_float(item.substr(equals + 1), where + " context " + shown_text(item));
+    if (!context.emplace(key, value).second) {
+      throw DatasetError(fmt::format("{}: context '{}' gives '{}' twice, expected each key once", where,
+                                     shown_text(text), shown_text(key)));
+    }
+    if (key == "held_out" && value != 0 && value != 1) {
+      throw DatasetError(fmt::format("{}: context held_out={}, expected 1 (held out) or 0", where,
+                                     shown_text(item.substr(equals + 1))));
+    }
   }
   return context;
 }

@@ -253,6 +253,12 @@ TEST_F(HaptexManifestErrors, UnknownSplitAndMalformedContext) {
   EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:2: split 'holdout', expected train, validation");
   write_text(manifest(), "file,class,group,recording,context\nrecordings/fabric00_0.csv,a,g,r0,speed\n");
   EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:2: context 'speed', expected key=number pairs");
+  // A repeat is not a default (the last would win), and held_out is a flag, not a weight.
+  write_text(manifest(), "file,class,group,recording,context\nrecordings/fabric00_0.csv,a,g,r0,speed=1;speed=2\n");
+  EXPECT_MENTIONS(load_error("haptex", root.path()),
+                  "manifest.csv:2: context 'speed=1;speed=2' gives 'speed' twice, expected each key once");
+  write_text(manifest(), "file,class,group,recording,context\nrecordings/fabric00_0.csv,a,g,r0,held_out=2\n");
+  EXPECT_MENTIONS(load_error("haptex", root.path()), "manifest.csv:2: context held_out=2, expected 1 (held out) or 0");
 }
 
 TEST_F(HaptexManifestErrors, SpreadsheetLineEndsAndByteOrderMarksAreReadAndInvisibleBytesAreShown) {

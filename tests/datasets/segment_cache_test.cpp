@@ -1,5 +1,6 @@
 #include "datasets/segment_cache.h"
 
+#include <H5Cpp.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -179,6 +180,20 @@ TEST(Hdf5File, ReadersNameTheFileAndWhatWasExpected) {
   std::ofstream(directory.path() / "text.h5") << "not hdf5 at all";
   EXPECT_NE(message_of([&] { read_hdf5_floats(directory.path() / "text.h5", "signal"); }).find("not an HDF5 file"),
             std::string::npos);
+  // A few kilobytes declaring 2^40 values (chunked, nothing written): refused before any allocation,
+  // where it once ended in "std::bad_alloc" naming nothing.
+  const auto huge = directory.path() / "huge.h5";
+  {
+    H5::H5File file(huge.string(), H5F_ACC_TRUNC);
+    const hsize_t dims[2] = {1, hsize_t{1} << 40}, chunk[2] = {1, 1024};
+    H5::DSetCreatPropList chunked;
+    chunked.setChunk(2, chunk);
+    file.createDataSet("signal", H5::PredType::NATIVE_FLOAT, H5::DataSpace(2, dims), chunked);
+  }
+  EXPECT_LT(std::filesystem::file_size(huge), 100000u);
+  EXPECT_NE(message_of([&] { read_hdf5_floats(huge, "signal", 2); })
+                .find("huge.h5: dataset 'signal' declares 1 x 1099511627776 values (4398.0 GB), more than this machine's memory"),
+            std::string::npos) << message_of([&] { read_hdf5_floats(huge, "signal", 2); });
 }
 
 TEST(DatasetCatalog, RealDatasetsWithoutDataRootSayWhatToDownload) {

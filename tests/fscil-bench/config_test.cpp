@@ -73,6 +73,15 @@ TEST(Cli, RerunRepeatsARunFromItsResultFileExactly) {
   EXPECT_NE(read_text(repeated).find("\"threads\": 1,"), std::string::npos);  // not this machine's 2 cores
   expect_one_error_line(run_cli("rerun " + (folder.path() / "none.json").string()), "none.json");
   expect_one_error_line(run_cli("rerun " + result.string() + " --seeds 3"), "--seeds comes from the result file");
+  // A thread count no machine here has is refused before a thread starts.
+  std::string text = read_text(result);
+  const std::string one = "\"threads\": 1,";
+  ASSERT_NE(text.find(one), std::string::npos);
+  text.replace(text.find(one), one.size(), "\"threads\": 100000,");
+  const auto many = folder.path() / "many.json";
+  std::ofstream(many) << text;
+  expect_one_error_line(run_cli("rerun " + many.string() + " --quiet --no-cache --out " + (folder.path() / "many").string()),
+                        "many.json: threads 100000, expected at most");
 }
 
 }  // namespace

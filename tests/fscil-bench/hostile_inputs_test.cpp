@@ -178,7 +178,16 @@ const HostileCase kCases[] = {
     {"set_value_with_a_plus_sign", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
      "--out {root}/out --set shot=+5", 1,
      "parameter shot='+5': expected the number without '+' (the value's text names the run, and '5' would be another)"},
+    {"set_integer_with_a_leading_zero", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
+     "--out {root}/out --set shot=05", 1,
+     "parameter shot='05': expected the integer as 5 (the value's text names the run)"},
+    // A line break in a path is spelled out, not cut at: the line names the file and the reason.
+    {"config_path_with_a_line_break", kRun + "--config '{root}/a\nb.json'", 1, "a\\nb.json: cannot open"},
     {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},
+    // Past 2^63 a config's number was once read back as -1.
+    {"config_integer_past_int64", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
+     "--out {root}/out --config {root}/run.json", 1,
+     "parameter shot='18446744073709551615': expected an integer", {R"(run.json={"set": {"shot": 18446744073709551615}})"}},
     {"config_key_twice", kRun + "--config {root}/run.json", 2, "key 'shot' given twice",
      {R"(run.json={"set": {"shot": 5, "shot": 3}})"}},
     {"resume_with_other_seeds",

@@ -241,7 +241,10 @@ TEST(RunRecord, AFileIsCheckedAsAWhole) {
   longer.sessions.push_back(longer.sessions.back());
   longer.sessions.back().session = 3;
   longer.sessions.back().seen_classes = 25;
-  EXPECT_EQ(refusal(longer), "odd.json: 4 sessions recorded, expected at most the protocol's 3");
+  EXPECT_EQ(refusal(longer), "odd.json: 4 sessions recorded, expected the protocol's 3");
+  RunRecord shorter = three;  // its last session cut off: AA and PD would be over two sessions
+  shorter.sessions.pop_back();
+  EXPECT_EQ(refusal(shorter), "odd.json: 2 sessions recorded, expected the protocol's 3");
   RunRecord cell = three;
   cell.grid = {{"shot", "9"}};
   EXPECT_EQ(refusal(cell), "odd.json: grid cell shot=9 but the run used shot=5");
@@ -261,6 +264,23 @@ TEST(RunRecord, BadFilesNameThemselves) {
     EXPECT_NE(std::string(error.what()).find("broken.json: not JSON"), std::string::npos);
   }
   EXPECT_THROW(load_run_records(directory.path() / "missing"), ReportError);
+}
+
+TEST(RunRecord, AnOutFolderIsReadFromItsResultsFoldersOnly) {
+  TemporaryDirectory directory;
+  save_run_record(directory.path(), record_of("prototype", 1, {50, 40}));
+  // What a user keeps beside a run's results: its config file, an old copy under results/.
+  std::ofstream(directory.path() / "run.json") << R"({"methods": "prototype", "threads": 1})";
+  std::filesystem::create_directories(directory.path() / "results" / "old");
+  std::ofstream(directory.path() / "results" / "old" / "x.json") << "{}";
+  EXPECT_EQ(load_run_records(directory.path()).size(), 1u);
+  // A folder of result files, not a run's --out, is read whole: a foreign file there is named.
+  try {
+    load_run_records(directory.path() / "results");
+    FAIL() << "expected an error";
+  } catch (const ReportError& error) {
+    EXPECT_NE(std::string(error.what()).find("x.json"), std::string::npos) << error.what();
+  }
 }
 
 // `record` written and read back, or the refusal naming the file.

@@ -36,10 +36,21 @@ namespace fscil {
 namespace {
 
 // One line naming what was wrong; earlier result files stay as they were written. Whatever a
-// library put in its message, no raw byte reaches the terminal.
-void print_error(std::string message, const char* hint = "") {
-  if (const auto newline = message.find('\n'); newline != std::string::npos) message.resize(newline);
-  fmt::print(stderr, "fscil-bench: error: {}{}\n", shown_text(message, 2000), hint);
+// library or a path put in the message, no raw byte reaches the terminal (a line break is spelled
+// \n, never cut at: the reason follows the path), and past 2000 characters the middle goes, not
+// the end, where the reason is.
+void print_error(const std::string& message, const char* hint = "") {
+  std::string shown = shown_text(message, message.size());
+  constexpr std::size_t kHead = 1200, kTail = 800;
+  if (shown.size() > kHead + kTail) {
+    const auto on_a_character = [&](std::size_t at) {  // not inside a UTF-8 sequence
+      while (at < shown.size() && (static_cast<unsigned char>(shown[at]) & 0xC0) == 0x80) ++at;
+      return at;
+    };
+    const std::size_t head = on_a_character(kHead), tail = on_a_character(shown.size() - kTail);
+    shown = fmt::format("{} ... ({} characters in all) ... {}", shown.substr(0, head), shown.size(), shown.substr(tail));
+  }
+  fmt::print(stderr, "fscil-bench: error: {}{}\n", shown, hint);
 }
 
 const CLI::Option* option_named(const CLI::App& app, const std::string& name) {

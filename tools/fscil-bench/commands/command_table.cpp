@@ -213,6 +213,13 @@ class RerunCommand : public Subcommand {
     never_replace(file_);
     const RunRecord record = run_record_from_json_text(read_text_file(file_), file_);
     require_profile(record.profile, file_);
+    // A result file may hold more threads than --threads takes (--threads 0 on a larger node), but
+    // not more than this machine has or --threads takes, whichever is more: 100000 written in a
+    // file would start 100000 threads.
+    if (const int most = std::max(kMaxThreads, thread_count(0)); record.threads > most) {
+      throw ReportError(fmt::format("rerun {}: threads {}, expected at most {} (--threads' {} or this machine's "
+                                    "hardware threads, whichever is more)", file_, record.threads, most, kMaxThreads));
+    }
     run = rerun_options(record, run);
     std::error_code error;
     const auto replaced = std::filesystem::path(run.out) / "results" / std::filesystem::path(file_).filename();

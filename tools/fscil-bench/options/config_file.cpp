@@ -22,6 +22,8 @@ using json = nlohmann::ordered_json;  // the file's order: the first grid axis v
 std::string text_of(const json& value, const std::string& where) {
   if (value.is_string()) return value.get<std::string>();
   if (value.is_boolean()) return value.get<bool>() ? "true" : "false";
+  // Past 2^63 the reader keeps the number unsigned: read as signed it came back negative.
+  if (value.is_number_unsigned()) return std::to_string(value.get<std::uint64_t>());
   if (value.is_number_integer()) return std::to_string(value.get<std::int64_t>());
   if (value.is_number()) return value.dump();
   throw CliError(fmt::format("{}: expected a string, a number or true/false", where));
