@@ -348,10 +348,9 @@ TEST(Cli, RunsOfAnotherProtocolNeverShareAnOutOrATable) {
     const std::string to = from == "\"seed\": 1" ? "\"seed\": 2" : "\"shot\": \"2\"";
     for (auto at = other.find(from); at != std::string::npos; at = other.find(from)) other.replace(at, from.size(), to);
   }
-  std::filesystem::create_directories(out.path() / "copied");
-  std::ofstream(out.path() / "copied" / "prototype__simtex-mini__seed2.json") << other;
+  std::ofstream(out.path() / "results" / "prototype__simtex-mini__seed2.json") << other;
   const CommandResult report = run_cli("report --results " + out.path().string());
-  expect_one_error_line(report, "runs that cannot share a table (shot=2 against shot=5)");
+  expect_one_error_line(report, "runs that cannot share a table (shot=5 against shot=2)");
 }
 
 // --precision bf16: other scores than fp32's, said in the result file and every table, never in
