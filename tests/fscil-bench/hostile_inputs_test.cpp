@@ -89,6 +89,12 @@ std::string grid_of(const std::string& keys, int values) {
   return grid;
 }
 
+std::string repeated(const std::string& text, int times) {
+  std::string all;
+  for (int i = 0; i < times; ++i) all += text;
+  return all;
+}
+
 // "grid.json=..." : a config sweeping shot over `values` values.
 std::string grid_config(int values) {
   std::string file = R"(grid.json={"grid": {"shot": [0)";
@@ -183,6 +189,9 @@ const HostileCase kCases[] = {
      "parameter shot='05': expected the integer as 5 (the value's text names the run)"},
     // A line break in a path is spelled out, not cut at: the line names the file and the reason.
     {"config_path_with_a_line_break", kRun + "--config '{root}/a\nb.json'", 1, "a\\nb.json: cannot open"},
+    // A path past the line's 2000 characters loses its middle, not the reason at its end.
+    {"config_path_of_3000_characters", kRun + "--config {root}/" + repeated(std::string(198, 'd') + "/", 15) + "x.json",
+     1, "x.json: cannot open (No such file or directory)"},
     {"set_key_twice", kRun + "--set pretrain_epochs=1 --set pretrain_epochs=2", 2, "--set pretrain_epochs: given twice"},
     // Past 2^63 a config's number was once read back as -1.
     {"config_integer_past_int64", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "

@@ -40,7 +40,7 @@ namespace {
 // \n, never cut at: the reason follows the path), and past 2000 characters the middle goes, not
 // the end, where the reason is.
 void print_error(const std::string& message, const char* hint = "") {
-  std::string shown = shown_text(message, message.size());
+  std::string shown = shown_text(message, 6 * message.size() + 1);  // whole: an escape takes up to 6 characters
   constexpr std::size_t kHead = 1200, kTail = 800;
   if (shown.size() > kHead + kTail) {
     const auto on_a_character = [&](std::size_t at) {  // not inside a UTF-8 sequence
