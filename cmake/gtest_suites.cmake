@@ -1,8 +1,9 @@
 # One ctest test per GoogleTest suite of a program, not one per test as gtest_discover_tests adds.
 # Every process of a torch test program spends 0.8 s before its first test, loading Debian's
-# libtorch_cpu (286 libraries) and registering its operators: one process per test was a tenth of
-# the suite's work (docs/profiling.md, "The test suite's time"). A failing suite's output names the
-# failing test; `ctest -R Suite` still picks a suite, and the program's --gtest_filter one test.
+# libtorch_cpu (286 libraries) and registering its operators: one process per test cost about 140 s
+# of the suite's 2000-2300 s of work (docs/profiling.md, "The test suite's time"). A failing
+# suite's output names the failing test; `ctest -R Suite` still picks a suite, and the program's
+# --gtest_filter one test.
 #
 # fscil_add_test_suites(TARGET [PROPERTIES name value ...]): after each build of TARGET, its suites
 # are listed (--gtest_list_tests) into a file that ctest includes; PROPERTIES go to every suite.
