@@ -61,9 +61,19 @@ void refuse_deep_json(const std::string& text, const std::string& origin, const 
   }
 }
 
+// An error E naming `origin` when a number of the JSON `text` is written nonzero but too small for
+// a double, which the library reads as 0 without a word.
+template <typename E>
+void refuse_number_read_as_zero(const std::string& text, const std::string& origin) {
+  if (const auto number = number_read_as_zero(text)) {
+    throw E(fmt::format("{}: the number {} is too small for a double (it would be read as 0); write 0 or a larger "
+                        "number", origin, shown_text(*number)));
+  }
+}
+
 // The text of a JSON file as one object, read strictly: text that is not JSON, a key given twice in
 // one object (the library would keep the last without a word) or a top level that is not an object
-// is an error E naming `origin`.
+// is an error E naming `origin`, and so is a number too small for a double.
 template <typename E>
 nlohmann::json parse_json_object(const std::string& text, const std::string& origin) {
   nlohmann::json document;
@@ -76,6 +86,7 @@ nlohmann::json parse_json_object(const std::string& text, const std::string& ori
   if (const auto key = duplicated_json_key(text)) {
     throw E(fmt::format("{}: field '{}' given twice in one object; give it once", origin, shown_text(*key)));
   }
+  refuse_number_read_as_zero<E>(text, origin);
   if (!document.is_object()) throw E(fmt::format("{}: expected a JSON object", origin));
   return document;
 }

@@ -30,4 +30,31 @@ inline std::optional<std::string> duplicated_json_key(const std::string& text) {
   return duplicated;
 }
 
+// The first number of the JSON `text` written as nonzero that a double holds as 0 ("1e-400"), or
+// nothing: the library keeps 0 without a word (a number too large for a double is its own error).
+inline std::optional<std::string> number_read_as_zero(const std::string& text) {
+  struct Numbers : nlohmann::json_sax<nlohmann::json> {
+    std::optional<std::string> found;
+    bool null() override { return true; }
+    bool boolean(bool) override { return true; }
+    bool number_integer(number_integer_t) override { return true; }
+    bool number_unsigned(number_unsigned_t) override { return true; }
+    bool number_float(number_float_t value, const string_t& written) override {
+      const std::string mantissa = written.substr(0, written.find_first_of("eE"));
+      if (value == 0 && !found && mantissa.find_first_of("123456789") != std::string::npos) found = written;
+      return true;
+    }
+    bool string(string_t&) override { return true; }
+    bool binary(binary_t&) override { return true; }
+    bool start_object(std::size_t) override { return true; }
+    bool key(string_t&) override { return true; }
+    bool end_object() override { return true; }
+    bool start_array(std::size_t) override { return true; }
+    bool end_array() override { return true; }
+    bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
+  } numbers;
+  nlohmann::json::sax_parse(text, &numbers);
+  return numbers.found;
+}
+
 }  // namespace fscil

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 
 #include "core/error.h"
 #include "core/shown_text.h"
@@ -16,33 +17,87 @@ namespace fscil {
 
 namespace {
 
+// How an error line names a value: "parameter k='v'" for the command line's, "ORIGIN.k='v'" for a
+// file's.
+std::string named(const std::string& key, const std::string& value, const std::string& origin) {
+  if (origin.empty()) return fmt::format("parameter {}='{}'", key, shown_text(value));
+  return fmt::format("{}.{}='{}'", origin, shown_text(key), shown_text(value));
+}
+
 // A value's text names its run (results, sweep cells): "+5" beside "5" would be two cells of one
 // value, so parameters take no '+' (data files, read by the same parser, may).
-void refuse_plus_sign(const std::string& key, const std::string& value) {
+void refuse_plus_sign(const std::string& key, const std::string& value, const std::string& origin) {
   if (!value.empty() && value.front() == '+') {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected the number without '+' (the value's text names the "
-                                    "run, and '{}' would be another)", key, shown_text(value), shown_text(value.substr(1))));
+    throw ProtocolError(fmt::format("{}: expected the number without '+' (the value's text names the run, and '{}' "
+                                    "would be another)", named(key, value, origin), shown_text(value.substr(1))));
   }
+}
+
+double real_of(const std::string& key, const std::string& value, const std::string& origin, const ValidRange& valid) {
+  refuse_plus_sign(key, value, origin);
+  const auto parsed = parse_finite_number(value);
+  if (!parsed) throw ProtocolError(fmt::format("{}: expected a finite number", named(key, value, origin)));
+  if (!valid.contains(*parsed)) {
+    throw ProtocolError(fmt::format("{}: expected a number {}", named(key, value, origin), valid.describe()));
+  }
+  // Training runs in float: a value past float's range overflows in the first tensor it meets.
+  if (std::abs(*parsed) > std::numeric_limits<float>::max()) {
+    throw ProtocolError(fmt::format("{}: expected a number of at most {:g} in magnitude (training runs in 32-bit "
+                                    "floats)", named(key, value, origin), std::numeric_limits<float>::max()));
+  }
+  return *parsed;
+}
+
+std::int64_t integer_of(const std::string& key, const std::string& value, const std::string& origin,
+                        const ValidRange& valid) {
+  refuse_plus_sign(key, value, origin);
+  const auto parsed = parse_number<std::int64_t>(value);
+  if (!parsed) throw ProtocolError(fmt::format("{}: expected an integer", named(key, value, origin)));
+  // "05" or "-0" beside "5" or "0" would be another run of one value, as "+5" would.
+  if (value != std::to_string(*parsed)) {
+    throw ProtocolError(fmt::format("{}: expected the integer as {} (the value's text names the run)",
+                                    named(key, value, origin), *parsed));
+  }
+  if (!valid.contains(static_cast<double>(*parsed))) {
+    throw ProtocolError(fmt::format("{}: expected an integer {}", named(key, value, origin), valid.describe()));
+  }
+  return *parsed;
+}
+
+std::optional<bool> flag_of(const std::string& value) {
+  if (value == "true" || value == "1" || value == "on") return true;
+  if (value == "false" || value == "0" || value == "off") return false;
+  return std::nullopt;
 }
 
 }  // namespace
 
-void ParameterSet::set(const std::string& key, const std::string& value) {
+void ParameterSet::set(const std::string& key, const std::string& value, const std::string& origin) {
   values_[key] = value;
   defaults_.erase(key);
+  if (origin.empty()) {
+    origins_.erase(key);
+  } else {
+    origins_[key] = origin;
+  }
 }
 
 void ParameterSet::set_default(const std::string& key, const std::string& value) {
   values_[key] = value;
   defaults_.insert(key);
+  origins_.erase(key);
 }
 
-void ParameterSet::set_assignment(const std::string& assignment) {
+void ParameterSet::check_also(const std::string& key, const std::string& value, const std::string& origin) {
+  replaced_.emplace(key, std::make_pair(value, origin));
+}
+
+void ParameterSet::set_assignment(const std::string& assignment, const std::string& origin) {
   const auto equals = assignment.find('=');
   if (equals == std::string::npos || equals == 0) {
     throw ProtocolError(fmt::format("--set '{}': expected key=value", shown_text(assignment)));
   }
-  set(assignment.substr(0, equals), assignment.substr(equals + 1));
+  set(assignment.substr(0, equals), assignment.substr(equals + 1), origin);
 }
 
 bool ParameterSet::contains(const std::string& key) const { return values_.count(key) != 0; }
@@ -50,6 +105,15 @@ bool ParameterSet::contains(const std::string& key) const { return values_.count
 const std::string* ParameterSet::lookup(const std::string& key) const {
   const auto found = values_.find(key);
   return found == values_.end() ? nullptr : &found->second;
+}
+
+std::vector<std::pair<std::string, std::string>> ParameterSet::checked_texts(const std::string& key) const {
+  std::vector<std::pair<std::string, std::string>> texts;
+  const auto [first, last] = replaced_.equal_range(key);
+  for (auto it = first; it != last; ++it) texts.push_back(it->second);
+  const auto origin = origins_.find(key);
+  texts.emplace_back(*lookup(key), origin == origins_.end() ? "" : origin->second);
+  return texts;
 }
 
 void ParameterSet::remember(const std::string& key, const std::string& value) const {
@@ -62,19 +126,10 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
     remember(key, fmt::format("{}", fallback));
     return fallback;
   }
-  refuse_plus_sign(key, *value);
-  const auto parsed = parse_finite_number(*value);
-  if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected a finite number", key, shown_text(*value)));
-  if (!valid.contains(*parsed)) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a number {}", key, shown_text(*value), valid.describe()));
-  }
-  // Training runs in float: a value past float's range overflows in the first tensor it meets.
-  if (std::abs(*parsed) > std::numeric_limits<float>::max()) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected a number of at most {:g} in magnitude "
-                                    "(training runs in 32-bit floats)", key, shown_text(*value), std::numeric_limits<float>::max()));
-  }
+  double parsed = 0;
+  for (const auto& [text, origin] : checked_texts(key)) parsed = real_of(key, text, origin, valid);  // the read one last
   remember(key, shown_text(*value));
-  return *parsed;
+  return parsed;
 }
 
 std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const {
@@ -83,45 +138,34 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
     remember(key, std::to_string(fallback));
     return fallback;
   }
-  refuse_plus_sign(key, *value);
-  const auto parsed = parse_number<std::int64_t>(*value);
-  if (!parsed) throw ProtocolError(fmt::format("parameter {}='{}': expected an integer", key, shown_text(*value)));
-  // "05" or "-0" beside "5" or "0" would be another run of one value, as "+5" would.
-  if (*value != std::to_string(*parsed)) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected the integer as {} (the value's text names the run)",
-                                    key, shown_text(*value), *parsed));
-  }
-  if (!valid.contains(static_cast<double>(*parsed))) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {}", key, shown_text(*value), valid.describe()));
-  }
+  std::int64_t parsed = 0;
+  for (const auto& [text, origin] : checked_texts(key)) parsed = integer_of(key, text, origin, valid);
   remember(key, shown_text(*value));
-  return *parsed;
+  return parsed;
 }
 
 int ParameterSet::count(const std::string& key, int fallback, const ValidRange& valid) const {
   const std::int64_t value = integer(key, fallback, valid);
   if (value > std::numeric_limits<int>::max() || value < std::numeric_limits<int>::min()) {
-    throw ProtocolError(fmt::format("parameter {}='{}': expected an integer {} and at most {}", key, value,
+    const auto [text, origin] = checked_texts(key).back();  // a fallback is an int
+    throw ProtocolError(fmt::format("{}: expected an integer {} and at most {}", named(key, text, origin),
                                     valid.describe(), std::numeric_limits<int>::max()));
   }
   return static_cast<int>(value);
 }
 
 bool ParameterSet::flag(const std::string& key, bool fallback) const {
-  const std::string* value = lookup(key);
-  if (value == nullptr) {
+  if (lookup(key) == nullptr) {
     remember(key, fallback ? "true" : "false");
     return fallback;
   }
-  if (*value == "true" || *value == "1" || *value == "on") {
-    remember(key, "true");
-    return true;
+  std::optional<bool> parsed;
+  for (const auto& [text, origin] : checked_texts(key)) {
+    parsed = flag_of(text);
+    if (!parsed) throw ProtocolError(fmt::format("{}: expected true or false", named(key, text, origin)));
   }
-  if (*value == "false" || *value == "0" || *value == "off") {
-    remember(key, "false");
-    return false;
-  }
-  throw ProtocolError(fmt::format("parameter {}='{}': expected true or false", key, shown_text(*value)));
+  remember(key, *parsed ? "true" : "false");
+  return *parsed;
 }
 
 std::string ParameterSet::text(const std::string& key, const std::string& fallback) const {
@@ -134,9 +178,12 @@ std::string ParameterSet::text(const std::string& key, const std::string& fallba
 std::string ParameterSet::choice(const std::string& key, const std::string& fallback,
                                  const std::vector<std::string>& allowed) const {
   const std::string result = text(key, fallback);
-  if (std::find(allowed.begin(), allowed.end(), result) == allowed.end()) {
-    throw ProtocolError(
-        fmt::format("parameter {}='{}': expected one of {}", key, shown_text(result), fmt::join(allowed, ", ")));
+  const auto texts = lookup(key) == nullptr ? std::vector<std::pair<std::string, std::string>>{{result, ""}}
+                                            : checked_texts(key);
+  for (const auto& [text, origin] : texts) {
+    if (std::find(allowed.begin(), allowed.end(), text) == allowed.end()) {
+      throw ProtocolError(fmt::format("{}: expected one of {}", named(key, text, origin), fmt::join(allowed, ", ")));
+    }
   }
   return result;
 }

@@ -3,6 +3,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/valid_range.h"
@@ -14,12 +15,18 @@ namespace fscil {
 // reject a --set key that nothing reads.
 class ParameterSet {
  public:
-  void set(const std::string& key, const std::string& value);
+  // `origin` names what gave the value when it is not the command line's --set (`--config FILE:
+  // "set"`, `rerun FILE: "parameters"`): an error in the value names it, not a flag never typed.
+  void set(const std::string& key, const std::string& value, const std::string& origin = "");
+  // A value that another replaced before any run could read it (a --config file's, under the
+  // command line's): a read of `key` checks it by the same rule as the value that won, so nonsense
+  // is refused wherever it was written, named by its origin.
+  void check_also(const std::string& key, const std::string& value, const std::string& origin);
   // A value a profile or dataset supplies for whichever method reads it: unlike set(), it is not
   // reported by unread_keys() when nothing reads it. A later set() makes it explicit.
   void set_default(const std::string& key, const std::string& value);
   // Parses "key=value"; throws ProtocolError naming the text when malformed.
-  void set_assignment(const std::string& assignment);
+  void set_assignment(const std::string& assignment, const std::string& origin = "");
   bool contains(const std::string& key) const;
 
   // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key.
@@ -45,9 +52,13 @@ class ParameterSet {
  private:
   const std::string* lookup(const std::string& key) const;
   void remember(const std::string& key, const std::string& value) const;
+  // Every text of `key` a read checks, with its origin: the replaced ones, then the value read.
+  std::vector<std::pair<std::string, std::string>> checked_texts(const std::string& key) const;
 
   std::map<std::string, std::string> values_;
   std::set<std::string> defaults_;  // keys whose value came from set_default()
+  std::map<std::string, std::string> origins_;  // keys whose value did not come from the command line
+  std::multimap<std::string, std::pair<std::string, std::string>> replaced_;  // key -> value, origin
   mutable std::map<std::string, std::string> used_;
 };
 

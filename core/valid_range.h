@@ -12,6 +12,7 @@ class ValidRange {
   static ValidRange any() { return {}; }
   static ValidRange at_least(double low) { return ValidRange(low, kInfinity, false, true); }
   static ValidRange above(double low) { return ValidRange(low, kInfinity, true, true); }
+  static ValidRange at_most(double high) { return ValidRange(-kInfinity, high, true, false); }
   static ValidRange between(double low, double high) { return ValidRange(low, high, false, false); }
   // [low, high): shares of something that must leave a part, like a mask.
   static ValidRange from_up_to(double low, double high) { return ValidRange(low, high, false, true); }

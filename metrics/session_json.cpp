@@ -92,6 +92,20 @@ void require_percentages(const SessionOutcome& session, const std::string& origi
     throw Error(fmt::format("{}: session {} has an accuracy of {} with base {} and novel {}, expected one between them",
                             origin, session.session, scored.all, scored.base, scored.novel));
   }
+  // Session 0 scores the base classes alone: they are its current classes, and no class is novel.
+  if (session.session == 0 && (std::abs(scored.base - scored.all) > 1e-6 || std::abs(scored.current - scored.all) > 1e-6 ||
+                               scored.novel != 0 || scored.harmonic != 0)) {
+    throw Error(fmt::format("{}: session 0 has accuracy {}, base {}, current {}, novel {} and harmonic mean {}, expected "
+                            "base and current equal to the accuracy and no novel classes (0)", origin, scored.all,
+                            scored.base, scored.current, scored.novel, scored.harmonic));
+  }
+  // The harmonic mean is of the base and the novel accuracy, as score_session computes it.
+  const double sum = scored.base + scored.novel;
+  const double harmonic = sum == 0 ? 0.0 : 2 * scored.base * scored.novel / sum;
+  if (std::abs(harmonic - scored.harmonic) > 1e-6) {
+    throw Error(fmt::format("{}: session {} has a harmonic mean of {} with base {} and novel {}, expected {}", origin,
+                            session.session, scored.harmonic, scored.base, scored.novel, harmonic));
+  }
 }
 
 json training_log_json(const std::vector<EpochLog>& log, NonFinite non_finite) {

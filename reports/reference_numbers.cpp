@@ -65,6 +65,14 @@ bool is_metric_name(const std::string& metric) {
          (digits == "0" || digits[0] != '0');
 }
 
+// The values `metric` can take, in percentage points: an accuracy and AA from 0 to 100, PD
+// = Acc_0 - Acc_S from -100 to 100, ADR (each session's drop over its accuracy) at most 100.
+ValidRange range_of(const std::string& metric) {
+  if (metric == "PD") return ValidRange::between(-100, 100);
+  if (metric == "ADR") return ValidRange::at_most(100);
+  return ValidRange::between(0, 100);
+}
+
 }  // namespace
 
 std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance) {
@@ -141,10 +149,17 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
     value.threads = whole_number<int>(fields[4], 1, where + " threads");
     value.expected = finite_number(fields[7], where + " expected");
     value.tolerance = finite_number(fields[8], where + " tolerance");
-    if (value.tolerance < 0) throw ReportError(fmt::format("{}: tolerance {} is negative", where, value.tolerance));
+    if (!reference_tolerance_range().contains(value.tolerance)) {
+      throw ReportError(fmt::format("{}: tolerance {}, expected percentage points {} (100 passes any accuracy)", where,
+                                    fields[8], reference_tolerance_range().describe()));
+    }
     if (!is_metric_name(value.metric)) {
       throw ReportError(fmt::format("{}: metric '{}', expected acc_0, acc_1, ... (a session's accuracy), AA, PD or ADR",
                                     where, shown_text(value.metric)));
+    }
+    if (const ValidRange range = range_of(value.metric); !range.contains(value.expected)) {
+      throw ReportError(fmt::format("{}: expected {} {}, expected a value {} (percentage points)", where, value.metric,
+                                    fields[7], range.describe()));
     }
     const std::string key = fmt::format("{} on {} seed {} ({} threads, {}) {}", value.method, value.dataset, value.seed,
                                         value.threads, value.kernels.empty() ? "any kernels" : value.kernels, value.metric);

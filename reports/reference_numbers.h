@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "core/valid_range.h"
 #include "reports/run_record.h"
 
 namespace fscil {
@@ -24,6 +25,9 @@ struct ReferenceValue {
   double expected = 0;
   double tolerance = 0;
 };
+
+// The tolerances a reference takes, in percentage points: 100 already passes any accuracy.
+inline ValidRange reference_tolerance_range() { return ValidRange::between(0, 100); }
 
 // Every value of every run in `records`, each with `tolerance`.
 std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& records, double tolerance);

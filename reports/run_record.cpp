@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <nlohmann/json.hpp>
@@ -181,6 +182,34 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
       }
     }
   }
+  // A value recorded in both maps is one value the run used.
+  for (const auto& [key, value] : record.protocol_parameters) {
+    if (const auto found = record.parameters.find(key); found != record.parameters.end() && found->second != value) {
+      throw ReportError(fmt::format("{}: field 'parameters.{}' is '{}' but 'protocol_parameters.{}' is '{}', expected "
+                                    "the one value the run used", origin, shown_text(key), shown_text(found->second),
+                                    shown_text(key), shown_text(value)));
+    }
+  }
+  // No run reads a number that is not finite (core/parameter_set.h refuses it).
+  for (const auto* values : {&record.protocol_parameters, &record.parameters}) {
+    for (const auto& [key, value] : *values) {
+      const auto number = parse_number<double>(value);
+      if (number && !std::isfinite(*number)) {
+        throw ReportError(fmt::format("{}: field '{}.{}': '{}', expected a finite number", origin,
+                                      values == &record.parameters ? "parameters" : "protocol_parameters",
+                                      shown_text(key), shown_text(value)));
+      }
+    }
+  }
+  // What the runner writes (methods/common/precision.h, protocols/session_plan.cpp's removal).
+  if (const std::string precision = precision_of(record); precision != "fp32" && precision != "bf16") {
+    throw ReportError(fmt::format("{}: field 'protocol_parameters.precision': '{}', expected fp32 or bf16", origin,
+                                  shown_text(precision)));
+  }
+  if (const std::string removal = removal_of(record); removal != "none" && removal != "fciac") {
+    throw ReportError(fmt::format("{}: field 'protocol_parameters.removal': '{}', expected none or fciac", origin,
+                                  shown_text(removal)));
+  }
   const auto sessions = protocol_value("sessions");
   // A result file is written once its run's last session has ended.
   if (sessions && static_cast<std::int64_t>(record.sessions.size()) != *sessions) {
@@ -188,6 +217,7 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
                                   record.sessions.size(), *sessions));
   }
   const bool removes_classes = removal_of(record) != "none";
+  const auto base_classes = protocol_value("base_classes"), way = protocol_value("way");
   for (std::size_t i = 0; i < record.sessions.size(); ++i) {
     const SessionOutcome& session = record.sessions[i];
     if (session.session != static_cast<int>(i)) {
@@ -199,6 +229,12 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
     if (session.seen_classes <= earlier && !(removes_classes && i > 0 && session.seen_classes > 0)) {
       throw ReportError(fmt::format("{}: session {} has {} seen classes, expected more than {}", origin, i,
                                     session.seen_classes, earlier));
+    }
+    // Sessions that only add classes: the base classes, then `way` more each.
+    if (!removes_classes && base_classes && way && session.seen_classes != *base_classes + *way * static_cast<std::int64_t>(i)) {
+      throw ReportError(fmt::format("{}: session {} has {} seen classes, expected the protocol's {} ({} base, {} way)",
+                                    origin, i, session.seen_classes, *base_classes + *way * static_cast<std::int64_t>(i),
+                                    *base_classes, *way));
     }
     if (session.accuracy.samples < 1) {
       throw ReportError(fmt::format("{}: session {} was tested on {} samples, expected at least 1", origin, i,

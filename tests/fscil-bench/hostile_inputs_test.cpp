@@ -65,6 +65,10 @@ std::string with_root(std::string arguments, const fs::path& root) {
 const std::string kRun = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet "
                          "--out {root}/out --cache-dir {root}/cache ";
 
+// A run whose refusal comes after its data is prepared: no cache to write first.
+const std::string kNoCacheRun = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache "
+                                "--out {root}/out ";
+
 const std::string kFolderRun = "--methods prototype --dataset folder --data-root {root}/data --profile smoke "
                                "--threads 1 --quiet --no-cache --out {root}/out ";
 // Segments of 3 samples and a front end that fits them (a centred window of 4, one Mel filter).
@@ -196,7 +200,8 @@ const HostileCase kCases[] = {
     // Past 2^63 a config's number was once read back as -1.
     {"config_integer_past_int64", "--methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache "
      "--out {root}/out --config {root}/run.json", 1,
-     "parameter shot='18446744073709551615': expected an integer", {R"(run.json={"set": {"shot": 18446744073709551615}})"}},
+     "run.json: \"set\".shot='18446744073709551615': expected an integer",
+     {R"(run.json={"set": {"shot": 18446744073709551615}})"}},
     {"config_key_twice", kRun + "--config {root}/run.json", 2, "key 'shot' given twice",
      {R"(run.json={"set": {"shot": 5, "shot": 3}})"}},
     {"resume_with_other_seeds",
@@ -310,6 +315,30 @@ const HostileCase kCases[] = {
     {"config_nested_a_hundred_thousand_deep", kRun + "--config {root}/run.json", 2,
      "run.json: arrays and objects nested more than 64 deep, expected run options",
      {"run.json={\"set\": " + std::string(100000, '[') + std::string(100000, ']') + "}"}},
+    // Round six (a helper's probe of the built program): a config's values are named by the file,
+    // checked even where the command line replaces them, and never read as another number.
+    {"config_set_value_a_boolean", kNoCacheRun + "--config {root}/run.json", 1,
+     "run.json: \"set\".shot='true': expected an integer", {R"(run.json={"set": {"shot": true}})"}},
+    {"config_set_value_replaced_on_the_command_line", kNoCacheRun + "--config {root}/run.json --set shot=5", 1,
+     "run.json: \"set\".shot='abc': expected an integer", {R"(run.json={"set": {"shot": "abc"}})"}},
+    {"config_number_too_small_for_a_double", kRun + "--config {root}/run.json", 2,
+     "run.json: the number 1e-400 is too small for a double (it would be read as 0)",
+     {R"(run.json={"set": {"context_strength": 1e-400}})"}},
+    {"config_asking_for_help", kRun + "--config {root}/run.json", 2, "run.json: \"help\": not a run option",
+     {R"(run.json={"help": true})"}},
+    {"config_asking_for_the_version", kRun + "--config {root}/run.json", 2, "run.json: \"version\": not a run option",
+     {R"(run.json={"version": true})"}},
+    // A result file is what the runner writes, or it is refused naming itself: rerun and check never
+    // read a parameter no run could have used.
+    {"rerun_of_a_parameter_not_finite", "rerun {root}/runs/results/odd.json --out {root}/again", 1,
+     "odd.json: field 'parameters.temperature': 'nan', expected a finite number",
+     {"runs/.lock", "runs/results/odd.json=@tests/fuzz/corpus/run_record/parameter_not_finite.json"}},
+    {"reference_with_a_tolerance_past_100", "check --results {root}/runs --reference {root}/ref.csv", 1,
+     "ref.csv:2: tolerance 1e30, expected percentage points in [0, 100]",
+     with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,acc_0,60,1e30\n")},
+    {"reference_with_an_accuracy_past_100", "check --results {root}/runs --reference {root}/ref.csv", 1,
+     "ref.csv:2: expected acc_0 150, expected a value in [0, 100]",
+     with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,acc_0,150,2\n")},
     // The data root fences what a dataset reads, links resolved.
     {"recording_linked_out_of_the_data_root", kFolderRun, 1, "leads to /etc/passwd, outside the data root",
      {kLabJson + "}", "data/manifest.csv=file,class,group,recording\nr0.csv,a,g,r0\nr1.csv,b,g,r1\n",

@@ -52,13 +52,19 @@ fscil::RunCheckpoint run_state(FuzzedDataProvider& in) {
     fscil::SessionOutcome o;
     o.session = s;
     o.seen_classes = in.ConsumeIntegralInRange(0, 10000);
-    for (double* accuracy : {&o.accuracy.base, &o.accuracy.novel, &o.accuracy.current, &o.accuracy.harmonic}) {
+    for (double* accuracy : {&o.accuracy.base, &o.accuracy.novel, &o.accuracy.current}) {
       *accuracy = in.ConsumeFloatingPointInRange(0.0, 100.0);
     }
+    if (s == 0) {  // the base classes alone: no novel class, and they are the current ones
+      o.accuracy.novel = 0;
+      o.accuracy.current = o.accuracy.base;
+    }
     // The joint accuracy weighs the base and the novel samples: it lies between their accuracies.
-    const double novel_share = in.ConsumeProbability<double>();
+    const double novel_share = s == 0 ? 0.0 : in.ConsumeProbability<double>();
     o.accuracy.all = std::clamp(o.accuracy.base + novel_share * (o.accuracy.novel - o.accuracy.base),
                                 std::min(o.accuracy.base, o.accuracy.novel), std::max(o.accuracy.base, o.accuracy.novel));
+    const double sum = o.accuracy.base + o.accuracy.novel;  // as score_session computes it
+    o.accuracy.harmonic = s == 0 || sum == 0 ? 0.0 : 2 * o.accuracy.base * o.accuracy.novel / sum;
     o.accuracy.samples = in.ConsumeIntegralInRange<std::int64_t>(0, 1'000'000'000);
     o.train_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);
     o.test_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);

@@ -5,6 +5,9 @@
 
 #include <fstream>
 #include <functional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -171,6 +174,19 @@ TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
   const auto values = load_reference_csv(path);
   ASSERT_EQ(values.size(), 1u);
   EXPECT_EQ(values[0].tolerance, 2);
+  // Values no run can reach, and a tolerance that would pass any drift, are the file's typos.
+  for (const auto& [row, reason] : std::vector<std::pair<std::string, std::string>>{
+           {"AA,150,2", "reference.csv:2: expected AA 150, expected a value in [0, 100]"},
+           {"PD,-101,2", "reference.csv:2: expected PD -101, expected a value in [-100, 100]"},
+           {"ADR,101,2", "reference.csv:2: expected ADR 101, expected a value"},
+           {"acc_0,50,1e30", "reference.csv:2: tolerance 1e30, expected percentage points in [0, 100]"},
+           {"acc_0,50,-1", "reference.csv:2: tolerance -1, expected percentage points in [0, 100]"}}) {
+    std::ofstream(path) << header << "prototype,simtex-mini,smoke,1,2," << row << "\n";
+    EXPECT_NE(message_of([&] { load_reference_csv(path); }).find(reason), std::string::npos)
+        << message_of([&] { load_reference_csv(path); });
+  }
+  std::ofstream(path) << header << "prototype,simtex-mini,smoke,1,2,PD,-40,100\n";  // a model that gained
+  EXPECT_EQ(load_reference_csv(path).at(0).expected, -40);
   std::ofstream(path) << "method,dataset,profile,seed,threads,metric,expected,tolerance\x7f\n";
   EXPECT_NE(message_of([&] { load_reference_csv(path); })
                 .find("reference.csv:1: header 'method,dataset,profile,seed,threads,metric,expected,tolerance\\x7f', "

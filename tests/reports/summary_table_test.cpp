@@ -37,7 +37,8 @@ RunRecord record_of(const std::string& method, std::uint64_t seed, std::vector<d
     session.session = static_cast<int>(s);
     session.seen_classes = 10 + 5 * static_cast<int>(s);
     session.accuracy.all = accuracies[s];
-    session.accuracy.base = accuracies[s] + 1;
+    session.accuracy.base = accuracies[s] + (s == 0 ? 0 : 1);  // session 0 scores the base classes alone
+    session.accuracy.current = s == 0 ? accuracies[s] : 0;
     session.accuracy.samples = 100;
     session.train_seconds = 1.5;
     record.sessions.push_back(session);
@@ -250,6 +251,35 @@ TEST(RunRecord, AFileIsCheckedAsAWhole) {
   EXPECT_EQ(refusal(cell), "odd.json: grid cell shot=9 but the run used shot=5");
   cell.grid = {{"shot", "5"}, {"selection", "validation"}};
   EXPECT_EQ(refusal(cell), "odd.json: grid cell selection=validation but the run used selection=last");
+  // Round six: what a probe's hand-edited files said and the runner never writes.
+  RunRecord split = three;
+  split.parameters["shot"] = "6";
+  EXPECT_EQ(refusal(split), "odd.json: field 'parameters.shot' is '6' but 'protocol_parameters.shot' is '5', expected "
+                            "the one value the run used");
+  RunRecord not_finite = three;
+  not_finite.parameters["temperature"] = "inf";
+  EXPECT_EQ(refusal(not_finite), "odd.json: field 'parameters.temperature': 'inf', expected a finite number");
+  RunRecord half = three;
+  half.protocol_parameters["precision"] = "fp16";
+  EXPECT_EQ(refusal(half), "odd.json: field 'protocol_parameters.precision': 'fp16', expected fp32 or bf16");
+  RunRecord sometimes = three;
+  sometimes.protocol_parameters["removal"] = "sometimes";
+  EXPECT_EQ(refusal(sometimes), "odd.json: field 'protocol_parameters.removal': 'sometimes', expected none or fciac");
+  RunRecord planned = three;
+  planned.protocol_parameters["base_classes"] = "10";
+  planned.protocol_parameters["way"] = "5";
+  EXPECT_EQ(refusal(planned), "accepted");
+  planned.sessions[1].seen_classes = 16;
+  EXPECT_EQ(refusal(planned), "odd.json: session 1 has 16 seen classes, expected the protocol's 15 (10 base, 5 way)");
+  RunRecord novel_at_first = three;
+  novel_at_first.sessions[0].accuracy.novel = 20;
+  EXPECT_EQ(refusal(novel_at_first).rfind("odd.json: session 0 has accuracy 50, base 50, current 50, novel 20", 0), 0u)
+      << refusal(novel_at_first);
+  RunRecord harmonic = three;
+  harmonic.sessions[1].accuracy.novel = 30;
+  harmonic.sessions[1].accuracy.harmonic = 30;  // 2 * 41 * 30 / 71 = 34.65
+  EXPECT_EQ(refusal(harmonic).rfind("odd.json: session 1 has a harmonic mean of 30 with base 41 and novel 30, expected 34.6", 0), 0u)
+      << refusal(harmonic);
 }
 
 TEST(RunRecord, BadFilesNameThemselves) {

@@ -118,8 +118,10 @@ void parse_words(CLI::App& app, std::vector<std::string> words, const ConfigFile
 }
 
 // argv with a --config file's options merged in (config_file.h), then parsed. The file's values
-// that the command line overrides are parsed first, in their place, so that they are checked too.
-void parse(CLI::App& app, int argc, char** argv) {
+// that the command line overrides are parsed first, in their place, so that they are checked too;
+// its "set" values are named by the file in `run`, and those the command line replaced are kept
+// there to be checked when read.
+void parse(CLI::App& app, int argc, char** argv, RunOptions& run) {
   const std::vector<std::string> typed(argv, argv + argc);
   const std::string config_path = config_file_of(typed);
   if (config_path.empty()) return parse_words(app, typed, nullptr, typed);
@@ -133,6 +135,13 @@ void parse(CLI::App& app, int argc, char** argv) {
     parse_words(app, config.merged_into(unoverridden, option_kind), &config, unoverridden);
   }
   parse_words(app, config.merged_into(typed, option_kind), &config, typed);
+  for (const auto& [key, value] : config.settings()) {
+    if (ConfigFile::replaced_on_command_line(typed, key)) {
+      run.replaced_assignments.push_back({key, value, config.settings_origin()});
+    } else {
+      run.assignment_origins[key] = config.settings_origin();
+    }
+  }
 }
 
 // Options that a run would otherwise ignore without a word.
@@ -211,7 +220,7 @@ int run_subcommand(int argc, char** argv) {
   }
 
   try {
-    parse(app, argc, argv);
+    parse(app, argc, argv, run);
     refuse_ignored_options(invocation);
     apply_resume(invocation);
     Subcommand* chosen = nullptr;

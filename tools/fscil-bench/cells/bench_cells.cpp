@@ -78,7 +78,7 @@ ParameterSet method_parameters(const RunOptions& options, const std::string& met
   ParameterSet params;
   apply_dataset_defaults(options.dataset, params);
   apply_profile(options.profile, params);
-  apply_assignments(options.assignments, params);
+  apply_assignments(options, params);
   create_method(method, params);  // marks the parameters it reads
   return params;
 }

@@ -16,6 +16,7 @@
 #include "protocols/profiles.h"
 #include "reports/context_analysis.h"
 #include "reports/paper_tables.h"
+#include "reports/reference_numbers.h"
 #include "reports/run_record.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
 #include "tools/fscil-bench/cells/cell_runner.h"
@@ -220,7 +221,7 @@ class RerunCommand : public Subcommand {
       throw ReportError(fmt::format("rerun {}: threads {}, expected at most {} (--threads' {} or this machine's "
                                     "hardware threads, whichever is more)", file_, record.threads, most, kMaxThreads));
     }
-    run = rerun_options(record, run);
+    run = rerun_options(record, file_, run);
     std::error_code error;
     const auto replaced = std::filesystem::path(run.out) / "results" / std::filesystem::path(file_).filename();
     if (std::filesystem::equivalent(replaced, file_, error)) {
@@ -366,7 +367,7 @@ class ReferenceCommand : public Subcommand {
     command.add_option("--results", results_, "directory holding result JSON files")->required();
     command.add_option("--out", out_, "reference CSV to write")->required();
     command.add_option("--tolerance", tolerance_, "two-sided tolerance of every value, percentage points")
-        ->check(within(ValidRange::at_least(0)))
+        ->check(within(reference_tolerance_range()))
         ->capture_default_str();
   }
   int run(Invocation&) override {

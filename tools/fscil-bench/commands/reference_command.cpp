@@ -34,7 +34,10 @@ std::string regenerate_command(const std::string& results, const std::string& re
 }  // namespace
 
 void write_reference(const std::string& results, const std::string& out, double tolerance) {
-  if (!(tolerance >= 0)) throw ReportError(fmt::format("--tolerance {}: expected a value >= 0", tolerance));
+  if (!reference_tolerance_range().contains(tolerance)) {
+    throw ReportError(fmt::format("--tolerance {}: expected percentage points {}", tolerance,
+                                  reference_tolerance_range().describe()));
+  }
   const auto records = load_command_records(results, "", {});
   require_replaceable(out);
   if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));

@@ -1,13 +1,16 @@
 #include "tools/fscil-bench/commands/rerun_command.h"
 
+#include <fmt/format.h>
+
 #include <variant>
 
 #include "tools/fscil-bench/options/run_option_table.h"
 
 namespace fscil {
 
-RunOptions rerun_options(const RunRecord& record, const RunOptions& where) {
+RunOptions rerun_options(const RunRecord& record, const std::string& file, const RunOptions& where) {
   RunOptions run;
+  const std::string origin = fmt::format("rerun {}: \"parameters\"", file);
   // Where and how this command runs: its own options; the rest comes from the record.
   for (const auto& option : run_option_table()) {
     if (!option.from_result_file) std::visit([&](auto member) { run.*member = where.*member; }, option.member);
@@ -34,6 +37,7 @@ RunOptions rerun_options(const RunRecord& record, const RunOptions& where) {
       run.precision = value;
     } else {
       run.assignments.push_back(key + "=" + value);
+      run.assignment_origins[key] = origin;
     }
   }
   return run;

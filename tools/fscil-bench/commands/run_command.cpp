@@ -70,7 +70,7 @@ ParameterSet base_parameters(const RunOptions& options) {
   apply_profile(options.profile, params);
   params.set("split_mode", options.split_mode);
   params.set("class_order", options.class_order);
-  apply_assignments(options.assignments, params);
+  apply_assignments(options, params);
   return params;
 }
 

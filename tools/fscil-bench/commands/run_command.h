@@ -42,6 +42,15 @@ struct RunOptions {
   std::string max_memory;  // --max-memory SIZE (empty: none): passes that would pass it recompute activations
   std::string precision = "fp32";  // fp32 | bf16: what the shared encoder computes in (methods/common/precision.h)
   std::vector<std::string> assignments;  // --set key=value
+  // What gave a --set key its value when the command line did not (`--config FILE: "set"`, `rerun
+  // FILE: "parameters"`): an error in the value names it.
+  std::map<std::string, std::string> assignment_origins;
+  // A --config file's "set" values that the command line replaced: no run reads them, yet a read
+  // of the key refuses nonsense in them too (ParameterSet::check_also).
+  struct ReplacedAssignment {
+    std::string key, value, origin;
+  };
+  std::vector<ReplacedAssignment> replaced_assignments;
   bool quiet = false;
   // --cell K (tools/fscil-bench/cells/bench_cells.h): this command is cell K of a plan, narrowed to its methods and
   // seed. It holds only that cell of --out, continues what --out holds of it, writes result files

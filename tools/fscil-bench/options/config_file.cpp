@@ -55,6 +55,14 @@ bool swept_on_command_line(const std::vector<std::string>& command_line, const s
   return keyed_on_command_line(command_line, "--grid", key);
 }
 
+std::string set_block_of(const std::filesystem::path& file) { return fmt::format("--config {}: \"set\"", file.string()); }
+
+// --help, --version and another --config are the program's flags, not options of a run: a file
+// that gives them would print help and exit 0, and run nothing.
+bool is_run_option_key(const std::string& key) {
+  return key != "config" && key != "help" && key != "help-all" && key != "version";
+}
+
 json parse_config(const std::filesystem::path& file) {
   const std::string text = read_text_file(file);
   json config;
@@ -69,6 +77,7 @@ json parse_config(const std::filesystem::path& file) {
     throw CliError(fmt::format("--config {}: key '{}' given twice in one object; give it once", file.string(),
                                shown_text(*key)));
   }
+  refuse_number_read_as_zero<CliError>(text, "--config " + file.string());
   return config;
 }
 
@@ -101,7 +110,7 @@ std::vector<std::string> ConfigFile::without_its_options(const std::vector<std::
                                                          const OptionKindOf& option_kind) const {
   std::vector<std::string> kept = command_line;
   for (const auto& [key, value] : json_->items()) {
-    if (key == "set" || key == "grid" || key == "config") continue;
+    if (key == "set" || key == "grid" || !is_run_option_key(key)) continue;
     const std::string option = "--" + key;
     const std::size_t words = option_kind(option) == OptionKind::takes_value ? 2 : 1;
     for (std::size_t i = 1; i < kept.size();) {
@@ -119,7 +128,13 @@ std::vector<std::string> ConfigFile::without_its_options(const std::vector<std::
 
 std::vector<std::pair<std::string, std::string>> ConfigFile::settings() const {
   if (!json_->contains("set")) return {};
-  return settings_of(json_->at("set"), fmt::format("--config {}: \"set\"", file_.string()));
+  return settings_of(json_->at("set"), set_block_of(file_));
+}
+
+std::string ConfigFile::settings_origin() const { return set_block_of(file_); }
+
+bool ConfigFile::replaced_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
+  return swept_on_command_line(command_line, key) || keyed_on_command_line(command_line, "--set", key);
 }
 
 std::string config_file_of(const std::vector<std::string>& command_line) {
@@ -138,7 +153,7 @@ std::vector<std::string> ConfigFile::merged_into(const std::vector<std::string>&
     const std::string where = fmt::format("--config {}: \"{}\"", file_.string(), shown_text(key));
     if (key == "set") {
       for (const auto& [name, setting] : settings_of(value, where)) {
-        if (!swept_on_command_line(command_line, name) && !keyed_on_command_line(command_line, "--set", name)) {
+        if (!replaced_on_command_line(command_line, name)) {
           options.insert(options.end(), {"--set", name + "=" + setting});
         }
       }
@@ -155,7 +170,7 @@ std::vector<std::string> ConfigFile::merged_into(const std::vector<std::string>&
         }
         grid.insert(grid.end(), {"--grid", axis});
       }
-    } else if (key == "config" || option_kind("--" + key) == OptionKind::unknown) {
+    } else if (!is_run_option_key(key) || option_kind("--" + key) == OptionKind::unknown) {
       throw CliError(fmt::format("{}: not a run option (expected e.g. methods, dataset, seeds, set, grid)", where));
     } else if (command_line_gives(command_line, "--" + key)) {
       continue;  // the command line's own value wins

@@ -29,6 +29,11 @@ class ConfigFile {
   // The "set" block as key -> value text (numbers as written, booleans as true/false): what the
   // released dataset configs give as their datasets' defaults.
   std::vector<std::pair<std::string, std::string>> settings() const;
+  // How an error line names the "set" block: `--config FILE: "set"`.
+  std::string settings_origin() const;
+  // Whether the command line gives the "set" key `key` itself (--set KEY=..., or sweeps it with
+  // --grid): the file's value then reaches no run.
+  static bool replaced_on_command_line(const std::vector<std::string>& command_line, const std::string& key);
 
   // The command line with the file's options inserted: run options after the program name, --grid
   // after the subcommand that takes it. An option the command line gives itself is left out (the

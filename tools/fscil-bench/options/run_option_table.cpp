@@ -124,17 +124,19 @@ std::vector<std::string> run_option_words(const RunOptions& options) {
   return words;
 }
 
-void apply_assignments(const std::vector<std::string>& assignments, ParameterSet& params) {
+void apply_assignments(const RunOptions& options, ParameterSet& params) {
   std::map<std::string, std::string> given;
-  for (const auto& assignment : assignments) {
+  for (const auto& assignment : options.assignments) {
     const std::string key = assignment.substr(0, assignment.find('='));
     if (const auto earlier = given.find(key); earlier != given.end()) {
       throw CliError(fmt::format("--set {}: given twice ('{}', then '{}'); give each key once", shown_text(key),
                                  shown_text(earlier->second), shown_text(assignment)));
     }
     given.emplace(key, assignment);
-    params.set_assignment(assignment);
+    const auto origin = options.assignment_origins.find(key);
+    params.set_assignment(assignment, origin == options.assignment_origins.end() ? "" : origin->second);
   }
+  for (const auto& replaced : options.replaced_assignments) params.check_also(replaced.key, replaced.value, replaced.origin);
 }
 
 }  // namespace fscil

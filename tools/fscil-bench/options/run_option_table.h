@@ -45,7 +45,9 @@ void declare_run_options(CLI::App& app, RunOptions& options);
 // `options` as the words of a command line (fscil-bench ...), every written option explicit.
 std::vector<std::string> run_option_words(const RunOptions& options);
 
-// Sets every --set key=value on `params`; a key given twice is refused (the last would win silently).
-void apply_assignments(const std::vector<std::string>& assignments, ParameterSet& params);
+// Sets every --set key=value of `options` on `params`, each named by its origin, and the values
+// they replaced to be checked too (RunOptions::assignment_origins, replaced_assignments); a key
+// given twice is refused (the last would win silently).
+void apply_assignments(const RunOptions& options, ParameterSet& params);
 
 }  // namespace fscil
