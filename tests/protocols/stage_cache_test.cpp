@@ -87,7 +87,7 @@ TEST(StageCache, TheIdentityChangesWithEverythingTheBaseSessionSeesAndNothingEls
 
 RunCheckpoint base_checkpoint(int sessions) {
   std::vector<SessionOutcome> outcomes(static_cast<std::size_t>(sessions));
-  outcomes[0].accuracy.all = 61.25;
+  outcomes[0].accuracy.all = outcomes[0].accuracy.base = outcomes[0].accuracy.current = 61.25;  // the base classes alone
   outcomes[0].train_seconds = 42;
   return {"run identity", outcomes, 50, {{"encoder.w", torch::arange(6.0).view({2, 3})}}, std::mt19937_64(7),
           torch::arange(5, torch::kUInt8)};
@@ -113,7 +113,7 @@ TEST(StageCache, GivesBackWhatItStoredAndNeverOverwritesAnEntry) {
   EXPECT_FALSE(cache.find("base B", dropped).has_value());
 
   RunCheckpoint other = base_checkpoint(1);
-  other.outcomes[0].accuracy.all = 10;
+  other.outcomes[0].accuracy.all = other.outcomes[0].accuracy.base = other.outcomes[0].accuracy.current = 10;
   cache.store("base A", other);
   EXPECT_EQ(cache.find("base A", dropped)->outcomes[0].accuracy.all, 61.25);
 }

@@ -167,6 +167,7 @@ TEST(ComparableRuns, LoadingAMixedFolderIsRefusedAndOutOfRangeAccuraciesToo) {
                                "between them");
   }
   two_sessions.sessions[1].accuracy.all = 62;
+  two_sessions.sessions[1].accuracy.harmonic = 2 * 64.0 * 60 / 124;  // of base and novel
   EXPECT_NO_THROW(run_record_from_json_text(to_json_text(two_sessions), "odd.json"));
 }
 
