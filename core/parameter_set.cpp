@@ -107,12 +107,15 @@ const std::string* ParameterSet::lookup(const std::string& key) const {
   return found == values_.end() ? nullptr : &found->second;
 }
 
-std::vector<std::pair<std::string, std::string>> ParameterSet::checked_texts(const std::string& key) const {
+std::string ParameterSet::origin_of(const std::string& key) const {
+  const auto origin = origins_.find(key);
+  return origin == origins_.end() ? "" : origin->second;
+}
+
+std::vector<std::pair<std::string, std::string>> ParameterSet::replaced_texts(const std::string& key) const {
   std::vector<std::pair<std::string, std::string>> texts;
   const auto [first, last] = replaced_.equal_range(key);
   for (auto it = first; it != last; ++it) texts.push_back(it->second);
-  const auto origin = origins_.find(key);
-  texts.emplace_back(*lookup(key), origin == origins_.end() ? "" : origin->second);
   return texts;
 }
 
@@ -126,8 +129,9 @@ double ParameterSet::real(const std::string& key, double fallback, const ValidRa
     remember(key, fmt::format("{}", fallback));
     return fallback;
   }
-  double parsed = 0;
-  for (const auto& [text, origin] : checked_texts(key)) parsed = real_of(key, text, origin, valid);  // the read one last
+  // A replaced value's form only: its range may depend on values that replaced others.
+  for (const auto& [text, origin] : replaced_texts(key)) real_of(key, text, origin, ValidRange::any());
+  const double parsed = real_of(key, *value, origin_of(key), valid);
   remember(key, shown_text(*value));
   return parsed;
 }
@@ -138,19 +142,24 @@ std::int64_t ParameterSet::integer(const std::string& key, std::int64_t fallback
     remember(key, std::to_string(fallback));
     return fallback;
   }
-  std::int64_t parsed = 0;
-  for (const auto& [text, origin] : checked_texts(key)) parsed = integer_of(key, text, origin, valid);
+  for (const auto& [text, origin] : replaced_texts(key)) integer_of(key, text, origin, ValidRange::any());
+  const std::int64_t parsed = integer_of(key, *value, origin_of(key), valid);
   remember(key, shown_text(*value));
   return parsed;
 }
 
 int ParameterSet::count(const std::string& key, int fallback, const ValidRange& valid) const {
   const std::int64_t value = integer(key, fallback, valid);
-  if (value > std::numeric_limits<int>::max() || value < std::numeric_limits<int>::min()) {
-    const auto [text, origin] = checked_texts(key).back();  // a fallback is an int
-    throw ProtocolError(fmt::format("{}: expected an integer {} and at most {}", named(key, text, origin),
-                                    valid.describe(), std::numeric_limits<int>::max()));
+  const auto refuse_past_int = [&](std::int64_t number, const std::string& text, const std::string& origin) {
+    if (number > std::numeric_limits<int>::max() || number < std::numeric_limits<int>::min()) {
+      throw ProtocolError(fmt::format("{}: expected an integer {} and at most {}", named(key, text, origin),
+                                      valid.describe(), std::numeric_limits<int>::max()));
+    }
+  };
+  for (const auto& [text, origin] : replaced_texts(key)) {
+    refuse_past_int(integer_of(key, text, origin, ValidRange::any()), text, origin);
   }
+  if (const std::string* text = lookup(key)) refuse_past_int(value, *text, origin_of(key));  // a fallback is an int
   return static_cast<int>(value);
 }
 
@@ -159,8 +168,10 @@ bool ParameterSet::flag(const std::string& key, bool fallback) const {
     remember(key, fallback ? "true" : "false");
     return fallback;
   }
+  auto texts = replaced_texts(key);
+  texts.emplace_back(*lookup(key), origin_of(key));  // the value read last
   std::optional<bool> parsed;
-  for (const auto& [text, origin] : checked_texts(key)) {
+  for (const auto& [text, origin] : texts) {
     parsed = flag_of(text);
     if (!parsed) throw ProtocolError(fmt::format("{}: expected true or false", named(key, text, origin)));
   }
@@ -178,8 +189,8 @@ std::string ParameterSet::text(const std::string& key, const std::string& fallba
 std::string ParameterSet::choice(const std::string& key, const std::string& fallback,
                                  const std::vector<std::string>& allowed) const {
   const std::string result = text(key, fallback);
-  const auto texts = lookup(key) == nullptr ? std::vector<std::pair<std::string, std::string>>{{result, ""}}
-                                            : checked_texts(key);
+  auto texts = replaced_texts(key);
+  texts.emplace_back(result, lookup(key) == nullptr ? "" : origin_of(key));
   for (const auto& [text, origin] : texts) {
     if (std::find(allowed.begin(), allowed.end(), text) == allowed.end()) {
       throw ProtocolError(fmt::format("{}: expected one of {}", named(key, text, origin), fmt::join(allowed, ", ")));

@@ -19,8 +19,9 @@ class ParameterSet {
   // "set"`, `rerun FILE: "parameters"`): an error in the value names it, not a flag never typed.
   void set(const std::string& key, const std::string& value, const std::string& origin = "");
   // A value that another replaced before any run could read it (a --config file's, under the
-  // command line's): a read of `key` checks it by the same rule as the value that won, so nonsense
-  // is refused wherever it was written, named by its origin.
+  // command line's): a read of `key` checks its form as it checks the value read (a finite number,
+  // an integer that fits, true or false, an allowed choice), so nonsense is refused wherever it was
+  // written, named by its origin. Not its range: that may depend on values that replaced others.
   void check_also(const std::string& key, const std::string& value, const std::string& origin);
   // A value a profile or dataset supplies for whichever method reads it: unlike set(), it is not
   // reported by unread_keys() when nothing reads it. A later set() makes it explicit.
@@ -29,7 +30,8 @@ class ParameterSet {
   void set_assignment(const std::string& assignment, const std::string& origin = "");
   bool contains(const std::string& key) const;
 
-  // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key.
+  // Numbers say where they are valid; a value outside `valid` throws ProtocolError naming the key
+  // and, for a value not from the command line, its origin.
   double real(const std::string& key, double fallback, const ValidRange& valid) const;
   std::int64_t integer(const std::string& key, std::int64_t fallback, const ValidRange& valid) const;
   // integer() for what an int holds (epochs, sizes, counts): a value beyond int's range is refused,
@@ -52,12 +54,13 @@ class ParameterSet {
  private:
   const std::string* lookup(const std::string& key) const;
   void remember(const std::string& key, const std::string& value) const;
-  // Every text of `key` a read checks, with its origin: the replaced ones, then the value read.
-  std::vector<std::pair<std::string, std::string>> checked_texts(const std::string& key) const;
+  std::string origin_of(const std::string& key) const;  // "" for the command line's
+  // The values check_also() kept for `key`, each with its origin.
+  std::vector<std::pair<std::string, std::string>> replaced_texts(const std::string& key) const;
 
   std::map<std::string, std::string> values_;
   std::set<std::string> defaults_;  // keys whose value came from set_default()
-  std::map<std::string, std::string> origins_;  // keys whose value did not come from the command line
+  std::map<std::string, std::string> origins_;  // key -> what gave its value, where set() was told
   std::multimap<std::string, std::pair<std::string, std::string>> replaced_;  // key -> value, origin
   mutable std::map<std::string, std::string> used_;
 };

@@ -28,8 +28,7 @@ SessionAccuracy score_session(const std::vector<std::int64_t>& labels, const std
   result.novel = novel.percent();
   result.current = current.percent();
   result.samples = all.total;
-  const double sum = result.base + result.novel;
-  result.harmonic = novel.total == 0 || sum == 0 ? 0.0 : 2 * result.base * result.novel / sum;
+  result.harmonic = novel.total == 0 ? 0.0 : harmonic_mean(result.base, result.novel);
   return result;
 }
 

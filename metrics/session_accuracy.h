@@ -14,6 +14,11 @@ struct SessionAccuracy {
   std::int64_t samples = 0;
 };
 
+// The harmonic mean of the base and the novel accuracy (0 when both are 0), as every session reports it.
+inline double harmonic_mean(double base, double novel) {
+  return base + novel == 0 ? 0.0 : 2 * base * novel / (base + novel);
+}
+
 // Labels and predictions are protocol class indices; classes [current_first, current_end) are
 // the ones this session added.
 SessionAccuracy score_session(const std::vector<std::int64_t>& labels, const std::vector<std::int64_t>& predictions,

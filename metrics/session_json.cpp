@@ -10,6 +10,7 @@
 #include "core/json_fields.h"
 #include "core/shown_text.h"
 #include "metrics/json_numbers.h"
+#include "metrics/session_accuracy.h"
 #include "metrics/session_fields.h"
 
 namespace fscil {
@@ -76,7 +77,7 @@ double field_of(const SessionField& field, const json& value, const std::string&
   return 0;
 }
 
-void require_percentages(const SessionOutcome& session, const std::string& origin) {
+void require_consistent_accuracies(const SessionOutcome& session, const std::string& origin) {
   for (const auto& field : session_fields()) {
     if (field.kind != Kind::percent && field.kind != Kind::novel_percent) continue;
     const double percent = field.value(session);
@@ -100,9 +101,7 @@ void require_percentages(const SessionOutcome& session, const std::string& origi
                             scored.base, scored.current, scored.novel, scored.harmonic));
   }
   // The harmonic mean is of the base and the novel accuracy, as score_session computes it.
-  const double sum = scored.base + scored.novel;
-  const double harmonic = sum == 0 ? 0.0 : 2 * scored.base * scored.novel / sum;
-  if (std::abs(harmonic - scored.harmonic) > 1e-6) {
+  if (const double harmonic = harmonic_mean(scored.base, scored.novel); std::abs(harmonic - scored.harmonic) > 1e-6) {
     throw Error(fmt::format("{}: session {} has a harmonic mean of {} with base {} and novel {}, expected {}", origin,
                             session.session, scored.harmonic, scored.base, scored.novel, harmonic));
   }
@@ -163,7 +162,7 @@ std::vector<SessionOutcome> sessions_from_json(const json& rows, const std::stri
     for (const auto& field : session_fields()) {
       field.set(session, field_of(field, row.at(field.key, "a number"), origin));
     }
-    require_percentages(session, origin);
+    require_consistent_accuracies(session, origin);
     if (row.has("diagnostics")) {
       for (const auto& [name, value] : row.object("diagnostics").json().items()) {
         session.diagnostics[name] = number_of(value, "diagnostic " + name, origin);

@@ -158,7 +158,7 @@ std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path
                                     where, shown_text(value.metric)));
     }
     if (const ValidRange range = range_of(value.metric); !range.contains(value.expected)) {
-      throw ReportError(fmt::format("{}: expected {} {}, expected a value {} (percentage points)", where, value.metric,
+      throw ReportError(fmt::format("{}: {} of {}, expected a value {} (percentage points)", where, value.metric,
                                     fields[7], range.describe()));
     }
     const std::string key = fmt::format("{} on {} seed {} ({} threads, {}) {}", value.method, value.dataset, value.seed,

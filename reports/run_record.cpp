@@ -190,7 +190,8 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
                                     shown_text(key), shown_text(value)));
     }
   }
-  // No run reads a number that is not finite (core/parameter_set.h refuses it).
+  // No run reads a number that is not finite (ParameterSet's numeric readers refuse one, and the few
+  // values read as text are names: split_mode, a front-end preset).
   for (const auto* values : {&record.protocol_parameters, &record.parameters}) {
     for (const auto& [key, value] : *values) {
       const auto number = parse_number<double>(value);

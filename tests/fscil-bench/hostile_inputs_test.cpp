@@ -337,7 +337,7 @@ const HostileCase kCases[] = {
      "ref.csv:2: tolerance 1e30, expected percentage points in [0, 100]",
      with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,acc_0,60,1e30\n")},
     {"reference_with_an_accuracy_past_100", "check --results {root}/runs --reference {root}/ref.csv", 1,
-     "ref.csv:2: expected acc_0 150, expected a value in [0, 100]",
+     "ref.csv:2: acc_0 of 150, expected a value in [0, 100]",
      with(kOrcoRun, kReferenceCsv + "orco,simtex-mini,smoke,1,1,k,acc_0,150,2\n")},
     // The data root fences what a dataset reads, links resolved.
     {"recording_linked_out_of_the_data_root", kFolderRun, 1, "leads to /etc/passwd, outside the data root",

@@ -20,6 +20,7 @@
 
 #include "core/stable_hash.h"
 #include "core/error.h"
+#include "metrics/session_accuracy.h"
 #include "metrics/session_json.h"
 #include "protocols/run_checkpoint.h"
 #include "tests/fuzz/fuzz_support.h"
@@ -63,8 +64,7 @@ fscil::RunCheckpoint run_state(FuzzedDataProvider& in) {
     const double novel_share = s == 0 ? 0.0 : in.ConsumeProbability<double>();
     o.accuracy.all = std::clamp(o.accuracy.base + novel_share * (o.accuracy.novel - o.accuracy.base),
                                 std::min(o.accuracy.base, o.accuracy.novel), std::max(o.accuracy.base, o.accuracy.novel));
-    const double sum = o.accuracy.base + o.accuracy.novel;  // as score_session computes it
-    o.accuracy.harmonic = s == 0 || sum == 0 ? 0.0 : 2 * o.accuracy.base * o.accuracy.novel / sum;
+    o.accuracy.harmonic = s == 0 ? 0.0 : fscil::harmonic_mean(o.accuracy.base, o.accuracy.novel);
     o.accuracy.samples = in.ConsumeIntegralInRange<std::int64_t>(0, 1'000'000'000);
     o.train_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);
     o.test_seconds = in.ConsumeFloatingPointInRange(0.0, 1e7);

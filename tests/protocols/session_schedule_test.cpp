@@ -361,5 +361,44 @@ TEST(ParameterSet, RefusesValuesOutsideWhatTheirOwnerSaysIsValid) {
             "parameter x='-1e300': expected a number of at most 3.40282e+38 in magnitude (training runs in 32-bit floats)");
 }
 
+// A --config file's value is named by the file; one the command line replaced is still checked for
+// its form, not against a range that may follow from the values that replaced others.
+TEST(ParameterSet, NamesAValuesOriginAndChecksTheFormOfValuesReplacedBeforeAnyRead) {
+  const auto read = [](const std::function<void(ParameterSet&)>& give, const std::function<void(const ParameterSet&)>& use) {
+    ParameterSet params;
+    give(params);
+    try {
+      use(params);
+    } catch (const ProtocolError& error) {
+      return std::string(error.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string file = "--config run.json: \"set\"";
+  const auto removed = [](const ParameterSet& p) { p.count("removed_novel", 2, ValidRange::between(0, 5)); };
+  EXPECT_EQ(read([&](ParameterSet& p) { p.set("removed_novel", "9", file); }, removed),
+            "--config run.json: \"set\".removed_novel='9': expected an integer in [0, 5]");
+  const auto replaced = [&](const std::string& value) {
+    return [&file, value](ParameterSet& p) {
+      p.set("removed_novel", "2");
+      p.check_also("removed_novel", value, file);
+    };
+  };
+  EXPECT_EQ(read(replaced("6"), removed), "accepted");  // in range for the way the file gave, not the one used
+  EXPECT_EQ(read(replaced("abc"), removed), "--config run.json: \"set\".removed_novel='abc': expected an integer");
+  EXPECT_EQ(read(replaced("3000000000"), removed),
+            "--config run.json: \"set\".removed_novel='3000000000': expected an integer in [0, 5] and at most 2147483647");
+  const auto lr = [](const ParameterSet& p) { p.real("lr", 0.1, ValidRange::above(0)); };
+  EXPECT_EQ(read([&](ParameterSet& p) { p.set("lr", "0.2"); p.check_also("lr", "nan", file); }, lr),
+            "--config run.json: \"set\".lr='nan': expected a finite number");
+  const auto order = [](const ParameterSet& p) { p.choice("order", "natural", {"natural", "shuffled"}); };
+  EXPECT_EQ(read([&](ParameterSet& p) { p.set("order", "natural"); p.check_also("order", "sideways", file); }, order),
+            "--config run.json: \"set\".order='sideways': expected one of natural, shuffled");
+  const auto flag = [](const ParameterSet& p) { p.flag("save", false); };
+  EXPECT_EQ(read([&](ParameterSet& p) { p.set("save", "true"); p.check_also("save", "maybe", file); }, flag),
+            "--config run.json: \"set\".save='maybe': expected true or false");
+  EXPECT_EQ(read([&](ParameterSet& p) { p.set("save", "true"); p.check_also("save", "off", file); }, flag), "accepted");
+}
+
 }  // namespace
 }  // namespace fscil

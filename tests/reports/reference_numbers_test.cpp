@@ -176,9 +176,9 @@ TEST(ReferenceNumbers, BadFilesNameFileLineAndWhatWasExpected) {
   EXPECT_EQ(values[0].tolerance, 2);
   // Values no run can reach, and a tolerance that would pass any drift, are the file's typos.
   for (const auto& [row, reason] : std::vector<std::pair<std::string, std::string>>{
-           {"AA,150,2", "reference.csv:2: expected AA 150, expected a value in [0, 100]"},
-           {"PD,-101,2", "reference.csv:2: expected PD -101, expected a value in [-100, 100]"},
-           {"ADR,101,2", "reference.csv:2: expected ADR 101, expected a value"},
+           {"AA,150,2", "reference.csv:2: AA of 150, expected a value in [0, 100]"},
+           {"PD,-101,2", "reference.csv:2: PD of -101, expected a value in [-100, 100]"},
+           {"ADR,101,2", "reference.csv:2: ADR of 101, expected a value"},
            {"acc_0,50,1e30", "reference.csv:2: tolerance 1e30, expected percentage points in [0, 100]"},
            {"acc_0,50,-1", "reference.csv:2: tolerance -1, expected percentage points in [0, 100]"}}) {
     std::ofstream(path) << header << "prototype,simtex-mini,smoke,1,2," << row << "\n";
