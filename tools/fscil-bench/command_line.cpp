@@ -119,8 +119,8 @@ void parse_words(CLI::App& app, std::vector<std::string> words, const ConfigFile
 
 // argv with a --config file's options merged in (config_file.h), then parsed. The file's values
 // that the command line overrides are parsed first, in their place, so that they are checked too;
-// its "set" values are named by the file in `run`, and those the command line replaced are kept
-// there to be checked when read.
+// its "set" and "grid" values are named by the file in `run`, and the "set" values the command line
+// replaced are kept there to be checked when read.
 void parse(CLI::App& app, int argc, char** argv, RunOptions& run) {
   const std::vector<std::string> typed(argv, argv + argc);
   const std::string config_path = config_file_of(typed);
@@ -142,6 +142,7 @@ void parse(CLI::App& app, int argc, char** argv, RunOptions& run) {
       run.assignment_origins[key] = config.settings_origin();
     }
   }
+  for (const auto& [key, origin] : config.grid_origins(typed)) run.assignment_origins[key] = origin;
 }
 
 // Options that a run would otherwise ignore without a word.

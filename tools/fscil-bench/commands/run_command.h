@@ -43,7 +43,7 @@ struct RunOptions {
   std::string precision = "fp32";  // fp32 | bf16: what the shared encoder computes in (methods/common/precision.h)
   std::vector<std::string> assignments;  // --set key=value
   // What gave a --set key its value when the command line did not (`--config FILE: "set"`, `rerun
-  // FILE: "parameters"`): an error in the value names it.
+  // FILE: "parameters"`, a sweep cell's `--config FILE: "grid"`): an error in the value names it.
   std::map<std::string, std::string> assignment_origins;
   // A --config file's "set" values that the command line replaced: no run reads them, yet a read
   // of the key refuses nonsense in them too (ParameterSet::check_also).

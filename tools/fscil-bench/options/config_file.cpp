@@ -133,6 +133,17 @@ std::vector<std::pair<std::string, std::string>> ConfigFile::settings() const {
 
 std::string ConfigFile::settings_origin() const { return set_block_of(file_); }
 
+std::map<std::string, std::string> ConfigFile::grid_origins(const std::vector<std::string>& command_line) const {
+  std::map<std::string, std::string> origins;
+  if (!json_->contains("grid") || !json_->at("grid").is_object()) return origins;  // merged_into refuses it
+  for (const auto& [name, values] : json_->at("grid").items()) {
+    if (!swept_on_command_line(command_line, name)) {
+      origins[name] = fmt::format("--config {}: \"grid\"", file_.string());
+    }
+  }
+  return origins;
+}
+
 bool ConfigFile::replaced_on_command_line(const std::vector<std::string>& command_line, const std::string& key) {
   return swept_on_command_line(command_line, key) || keyed_on_command_line(command_line, "--set", key);
 }

@@ -1,6 +1,7 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
@@ -34,6 +35,9 @@ class ConfigFile {
   // Whether the command line gives the "set" key `key` itself (--set KEY=..., or sweeps it with
   // --grid): the file's value then reaches no run.
   static bool replaced_on_command_line(const std::vector<std::string>& command_line, const std::string& key);
+  // The "grid" keys whose values reach the cells (those the command line does not sweep itself),
+  // each with how an error line names it: `--config FILE: "grid"`.
+  std::map<std::string, std::string> grid_origins(const std::vector<std::string>& command_line) const;
 
   // The command line with the file's options inserted: run options after the program name, --grid
   // after the subcommand that takes it. An option the command line gives itself is left out (the
