@@ -165,8 +165,40 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
   std::vector<int> first_session;
   for (std::int64_t label : scored_labels) first_session.push_back(plan.session_of_class(label));
   ScoredEmbeddings scored_embeddings(feature_rows(dataset, scored_segments), std::move(first_session), reuse);
+  // The scored samples of the classes present after `session` (a removed class's are not scored,
+  // and its row takes part in no decision): their positions in `scored_segments`, their embeddings.
+  const auto scored_after = [&](int session) {
+    const std::vector<int> removed = plan.removed_by(session);  // in increasing order
+    std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
+    torch::Tensor seen_embeddings = scored_embeddings.embeddings_after(method, session);
+    if (!removed.empty()) {
+      std::vector<std::int64_t> kept, kept_rows;
+      for (std::size_t i = 0; i < seen.size(); ++i) {
+        if (std::binary_search(removed.begin(), removed.end(), static_cast<int>(scored_labels[seen[i]]))) continue;
+        kept.push_back(seen[i]);
+        kept_rows.push_back(static_cast<std::int64_t>(i));
+      }
+      seen = std::move(kept);
+      seen_embeddings = seen_embeddings.index_select(0, torch::tensor(kept_rows, torch::kLong));
+    }
+    return std::make_pair(std::move(seen), seen_embeddings);
+  };
+  const auto labels_at = [&](const std::vector<std::int64_t>& positions) {
+    std::vector<std::int64_t> labels;
+    for (std::int64_t position : positions) labels.push_back(scored_labels[static_cast<std::size_t>(position)]);
+    return labels;
+  };
   std::vector<SessionOutcome> outcomes = checkpoints.finished;
-  if (!outcomes.empty()) scored_embeddings.keep_up_to(method, static_cast<int>(outcomes.size()) - 1);
+  if (!outcomes.empty()) {
+    const int last_finished = static_cast<int>(outcomes.size()) - 1;
+    scored_embeddings.keep_up_to(method, last_finished);
+    // The method holds the state that session left (a checkpoint, a shared or cached base): its
+    // embeddings are what scoring it gave, so they are kept as if it had run here.
+    if (keep_embeddings) {
+      const auto [seen, seen_embeddings] = scored_after(last_finished);
+      keep_embeddings(last_finished, seen_embeddings, labels_at(seen));
+    }
+  }
   for (int session = static_cast<int>(outcomes.size()); session < plan.sessions; ++session) {
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
     const bool removing = session > 0 && !plan.adds_classes(session);
@@ -216,19 +248,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (session == 0) note_training_verdict(outcome, context.progress);
 
     Stopwatch test_clock;
-    // A removed class's samples are not scored, and its row takes part in no decision.
-    std::vector<std::int64_t> seen = scored_embeddings.positions_seen_by(session);
-    torch::Tensor seen_embeddings = scored_embeddings.embeddings_after(method, session);
-    if (!removed.empty()) {
-      std::vector<std::int64_t> kept, kept_rows;
-      for (std::size_t i = 0; i < seen.size(); ++i) {
-        if (is_removed(scored_labels[static_cast<std::size_t>(seen[i])])) continue;
-        kept.push_back(seen[i]);
-        kept_rows.push_back(static_cast<std::int64_t>(i));
-      }
-      seen = std::move(kept);
-      seen_embeddings = seen_embeddings.index_select(0, torch::tensor(kept_rows, torch::kLong));
-    }
+    auto [seen, seen_embeddings] = scored_after(session);
     const torch::Tensor removed_rows = torch::tensor(std::vector<std::int64_t>(removed.begin(), removed.end()), torch::kLong);
     std::vector<std::int64_t> seen_segments;
     for (std::int64_t position : seen) seen_segments.push_back(scored_segments[position]);
@@ -242,8 +262,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
         embeddings.push_back(torch::nn::functional::normalize(embedding, torch::nn::functional::NormalizeFuncOptions().dim(1)));
       }
     }
-    std::vector<std::int64_t> labels;
-    for (std::int64_t position : seen) labels.push_back(scored_labels[static_cast<std::size_t>(position)]);
+    const std::vector<std::int64_t> labels = labels_at(seen);
     if (keep_embeddings) keep_embeddings(session, seen_embeddings, labels);
     const auto predicted = to_vector<std::int64_t>(torch::cat(predictions));
     outcome.accuracy = score_session(labels, predicted, plan.base_classes, plan.first_class_of(session), plan.seen_after(session));

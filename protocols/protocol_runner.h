@@ -41,7 +41,8 @@ struct InheritedBase {
 };
 
 // Receives the embeddings (N x D, embed() of the scored samples of every seen class) and labels
-// each session was scored on (--save-embeddings).
+// each session was scored on (--save-embeddings); a run that continues from finished sessions (a
+// checkpoint, a shared or cached base) hands the last of them over too, from the state it left.
 using ScoredEmbeddingSink =
     std::function<void(int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels)>;
 

@@ -101,12 +101,22 @@ std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& re
   return values;
 }
 
+namespace {
+constexpr const char* kFirstLine = "# fscil-bench reference numbers: session accuracies and AA/PD/ADR in percentage points.";
+}  // namespace
+
+bool holds_reference_csv(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::string first;
+  return std::getline(file, first) && first == kFirstLine;
+}
+
 std::string render_reference_csv(const std::vector<ReferenceValue>& values, const std::string& regenerate_command) {
   std::string out = fmt::format(
-      "# fscil-bench reference numbers: session accuracies and AA/PD/ADR in percentage points.\n"
+      "{}\n"
       "# A run passes when every value is within expected +- tolerance (two-sided).\n"
       "# Regenerate (never in CI): {}\n{}\n",
-      regenerate_command, kHeader);
+      kFirstLine, regenerate_command, kHeader);
   for (const auto& v : values) {
     out += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f}\n", v.method, v.dataset, v.profile, v.seed, v.threads,
                        v.kernels, v.metric, v.expected, v.tolerance);

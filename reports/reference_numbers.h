@@ -34,6 +34,8 @@ std::vector<ReferenceValue> reference_values_of(const std::vector<RunRecord>& re
 
 // CSV with a comment header saying how it was made and how to regenerate it.
 std::string render_reference_csv(const std::vector<ReferenceValue>& values, const std::string& regenerate_command);
+// Whether `path` begins as render_reference_csv writes: a reference CSV that `reference` may replace.
+bool holds_reference_csv(const std::filesystem::path& path);
 // Throws ReportError naming the file, line and field.
 std::vector<ReferenceValue> load_reference_csv(const std::filesystem::path& path);
 

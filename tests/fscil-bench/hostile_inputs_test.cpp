@@ -328,6 +328,17 @@ const HostileCase kCases[] = {
      "run.json: \"grid\".shot='true': expected an integer", {R"(run.json={"grid": {"shot": [5, true]}})"}},
     {"config_grid_value_out_of_range_in_run_cells", "run-cells --jobs 2 " + kNoCacheRun + "--config {root}/run.json", 1,
      "run.json: \"grid\".shot='0': expected an integer", {R"(run.json={"grid": {"shot": [5, 0]}})"}},
+    // Round seven: an option and a --set or --grid of the parameter it sets; the --set value won
+    // without a word, and a sweep dropped the option.
+    {"class_order_by_option_and_set", kRun + "--class-order shuffled --set class_order=natural", 2,
+     "--class-order shuffled and --set class_order='natural': both set class_order; give it once"},
+    {"split_mode_by_option_and_grid", "plan " + kRun + "--split-mode segment --grid split_mode=segment,recording", 2,
+     "--split-mode segment and --grid split_mode=segment,recording: a parameter is either fixed or swept"},
+    {"analyze_out_holding_the_users_file", "analyze --results {root}/runs --out {root}/mine", 1,
+     "mine/context_analysis.csv would be replaced, and nothing says fscil-bench wrote it",
+     with(kOrcoRun, "mine/context_analysis.csv=the user's own\n")},
+    {"reference_out_holding_the_users_file", "reference --results {root}/runs --out {root}/mine.csv", 1,
+     "mine.csv: would be replaced, and it is not a reference CSV", with(kOrcoRun, "mine.csv=the user's own\n")},
     {"config_asking_for_help", kRun + "--config {root}/run.json", 2, "run.json: \"help\": not a run option",
      {R"(run.json={"help": true})"}},
     {"config_asking_for_the_version", kRun + "--config {root}/run.json", 2, "run.json: \"version\": not a run option",
@@ -383,6 +394,38 @@ TEST_P(HostileInput, FailsWithOneLineAndChangesNoFile) {
   expect_one_error_line(result, c.fragment);
   EXPECT_EQ(result.exit_code, c.exit_code) << result.output;
   EXPECT_EQ(tree_of(root.path()), before) << "files changed by: " << c.arguments;
+}
+
+// Round seven: plan's calibration once allocated --set batch_size samples (64 TB here) and died
+// with LibTorch's 30-frame trace; training never takes a batch larger than its samples, and
+// neither does the calibration now.
+TEST(HostileInput, APlanOfABatchLargerThanTheDataIsEstimatedAsTrainingRunsIt) {
+  TemporaryDirectory root;
+  const CommandResult plan = run_cli("plan --methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet "
+                                     "--no-cache --out " + (root.path() / "out").string() + " --set batch_size=2147483647");
+  EXPECT_EQ(plan.exit_code, 0) << plan.output;
+  EXPECT_NE(plan.output.find("estimated "), std::string::npos) << plan.output;
+}
+
+// Round seven: the command reference writes as its CSV's comment (and check prints) is quoted for a
+// shell, and a path it cannot write on one line is refused before anything is written.
+TEST(HostileInput, TheRegenerateCommandIsQuotedAndALineBreakInItsPathRefused) {
+  TemporaryDirectory root;
+  const std::string run = "--methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out ";
+  const fs::path odd = root.path() / "a $(id)";
+  ASSERT_EQ(run_cli(run + "'" + odd.string() + "'").exit_code, 0);
+  const fs::path csv = root.path() / "ref.csv";
+  ASSERT_EQ(run_cli("reference --results '" + odd.string() + "' --out " + csv.string()).exit_code, 0);
+  EXPECT_NE(read_text(csv).find("# Regenerate (never in CI): fscil-bench reference --results '" + odd.string() + "' --out "),
+            std::string::npos) << read_text(csv);
+
+  const fs::path broken = root.path() / "a\nmethod,x";
+  fs::rename(odd, broken);
+  const CommandResult refused = run_cli("reference --results '" + broken.string() + "' --out " +
+                                        (root.path() / "second.csv").string());
+  expect_one_error_line(refused, "a line break in the path");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_FALSE(fs::exists(root.path() / "second.csv"));
 }
 
 // System errors carry the path and the system's reason, not the library's "filesystem error: status:"

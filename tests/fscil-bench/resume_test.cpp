@@ -243,5 +243,63 @@ TEST(Cli, ARunStoppedBySigtermKeepsItsCheckpointAndResumesToTheSameNumbers) {
             accuracies_in(folder.path() / "whole" / "results" / "cop-fscil__simtex-mini__seed1.json"));
 }
 
+// The embeddings --save-embeddings keeps of every session, as `file` holds them.
+std::vector<std::vector<float>> saved_sessions(const std::filesystem::path& file) {
+  std::vector<std::vector<float>> sessions;
+  for (const int session : read_hdf5_integers(file, "sessions")) {
+    std::vector<float> values = read_hdf5_floats(file, fmt::format("session_{}_embeddings", session), 2).values;
+    for (const int label : read_hdf5_integers(file, fmt::format("session_{}_labels", session))) {
+      values.push_back(static_cast<float>(label));
+    }
+    sessions.push_back(std::move(values));
+  }
+  return sessions;
+}
+
+// A resumed run cannot embed again the sessions before the one it continues from: they were kept
+// beside its checkpoint (once, the resumed file held only the sessions after the stop).
+TEST(Cli, ARunStoppedAfterASessionKeepsTheEmbeddingsOfEverySessionWhenResumed) {
+  TemporaryDirectory folder;
+  const std::string options =
+      " --methods orco --dataset simtex-mini --profile smoke --threads 1 --no-cache --save-embeddings all";
+  const auto stopped = folder.path() / "stopped";
+  const std::string script = fmt::format(
+      "{} {} --out {} 2> {}/stderr & pid=$!; for i in $(seq 6000); do grep -q \"session 2/2\" {}/stderr && break; "
+      "kill -0 $pid || break; sleep 0.02; done; kill -TERM $pid; wait $pid",
+      built_program(), options, stopped.string(), folder.path().string(), folder.path().string());
+  const int status = std::system(("bash -c '" + script + "'").c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 143) << read_text(folder.path() / "stderr");
+  const auto checkpoints = stopped / "checkpoints";
+  ASSERT_TRUE(std::filesystem::exists(checkpoints / "orco__simtex-mini__seed1.ckpt"));
+  ASSERT_EQ(read_hdf5_integers(checkpoints / "orco__simtex-mini__seed1.embeddings.h5", "sessions"),
+            (std::vector<std::int32_t>{0, 1}));
+
+  const CommandResult resumed = run_cli(options + " --quiet --resume " + stopped.string());
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_TRUE(std::filesystem::is_empty(checkpoints)) << "a finished run leaves neither checkpoint nor embeddings";
+  const CommandResult whole = run_cli(options + " --quiet --out " + (folder.path() / "whole").string());
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  const auto kept = saved_sessions(stopped / "embeddings" / "orco__simtex-mini__seed1.h5");
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept, saved_sessions(folder.path() / "whole" / "embeddings" / "orco__simtex-mini__seed1.h5"));
+}
+
+// A base from the stage cache is scored, not trained: its session's embeddings are kept all the same.
+TEST(Cli, ABaseFromTheStageCacheKeepsItsSessionsEmbeddings) {
+  TemporaryDirectory folder;
+  const std::string options = " --methods prototype --dataset simtex-mini --profile smoke --threads 1 --quiet "
+                              "--save-embeddings all --cache-dir " + (folder.path() / "cache").string();
+  ASSERT_EQ(run_cli(options + " --out " + (folder.path() / "trained").string()).exit_code, 0);
+  const CommandResult cached = run_cli(options + " --out " + (folder.path() / "cached").string());
+  ASSERT_EQ(cached.exit_code, 0) << cached.output;
+  EXPECT_NE(read_text(folder.path() / "cached" / "results" / "prototype__simtex-mini__seed1.json")
+                .find("from the stage cache"), std::string::npos);
+  const auto file = std::filesystem::path("embeddings") / "prototype__simtex-mini__seed1.h5";
+  const auto kept = saved_sessions(folder.path() / "cached" / file);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept, saved_sessions(folder.path() / "trained" / file));
+}
+
 }  // namespace
 }  // namespace fscil

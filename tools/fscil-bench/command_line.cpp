@@ -150,6 +150,33 @@ void refuse_ignored_options(const Invocation& invocation) {
   if (invocation.given("--cache-dir") && invocation.run.no_cache) {
     throw CliError("--cache-dir and --no-cache: --no-cache reads and writes no cache; give one of them");
   }
+  // These two options set a protocol parameter that --set and --grid can give as well: the --set
+  // value won over the option without a word, and a sweep dropped the option.
+  const std::pair<const char*, const char*> parameter_options[] = {{"--class-order", "class_order"},
+                                                                   {"--split-mode", "split_mode"}};
+  const auto names = [](const std::string& assignment, const char* key) {
+    return assignment.substr(0, assignment.find('=')) == key;
+  };
+  for (const auto& [option, key] : parameter_options) {
+    if (!invocation.given(option)) continue;
+    const std::string fixed = fmt::format("{} {}", option, shown_text(invocation.app[option]->as<std::string>()));
+    for (const auto& assignment : invocation.run.assignments) {
+      if (!names(assignment, key)) continue;
+      const auto origin = invocation.run.assignment_origins.find(key);
+      throw CliError(fmt::format("{} and {}{}='{}': both set {}; give it once", fixed,
+                                 origin == invocation.run.assignment_origins.end() ? "--set " : origin->second + ".",
+                                 key, shown_text(assignment.substr(assignment.find('=') + 1)), key));
+    }
+    for (const CLI::App* command : invocation.app.get_subcommands()) {
+      const CLI::Option* grid = command->get_option_no_throw("--grid");
+      if (grid == nullptr) continue;
+      for (const auto& axis : grid->results()) {
+        if (names(axis, key)) {
+          throw CliError(fmt::format("{} and --grid {}: a parameter is either fixed or swept", fixed, shown_text(axis)));
+        }
+      }
+    }
+  }
 }
 
 // --resume DIR continues the command whose --out it was: the one check of DIR for every command

@@ -335,6 +335,10 @@ class AnalyzeCommand : public Subcommand {
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
     const auto records = load_command_records(results_, "", {});
+    std::optional<OutFolderLock> claimed;  // as report's: another folder's context_analysis.csv may be the user's
+    if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
+      claimed.emplace(out_);
+    }
     write_file_atomically(std::filesystem::path(out_.empty() ? results_ : out_) / "context_analysis.csv",
                           render_context_analysis_csv(records));
     fmt::print("{}", render_context_analysis_markdown(records));

@@ -4,13 +4,17 @@
 
 #include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "reports/reference_numbers.h"
 #include "core/error.h"
+#include "core/shown_text.h"
 #include "reports/run_record.h"
 #include "reports/summary_table.h"
 #include "tools/fscil-bench/cells/bench_cells.h"
+#include "tools/fscil-bench/cells/command_arguments.h"
 #include "tools/fscil-bench/options/data_folder.h"
 
 namespace fscil {
@@ -27,8 +31,17 @@ std::string regenerate_command(const std::string& results, const std::string& re
   const auto own = std::filesystem::weakly_canonical(reference_file("").parent_path(), error);
   const auto file = std::filesystem::weakly_canonical(reference, error);
   if (!error && file.parent_path() == own) return kRegenerateReferences;
-  return fmt::format("fscil-bench reference --results {} --out {}{}", results, reference,
-                     tolerance ? fmt::format(" --tolerance {}", *tolerance) : std::string());
+  // Printed for pasting into a shell, and written as the CSV's one comment line.
+  for (const std::string* path : {&results, &reference}) {
+    if (path->find_first_of("\n\r") != std::string::npos) {
+      throw ReportError(fmt::format("{}: a line break in the path; the reference CSV's one-line 'Regenerate' "
+                                    "comment cannot name it: rename the folder",
+                                    shown_text(*path)));
+    }
+  }
+  std::vector<std::string> words = {"fscil-bench", "reference", "--results", results, "--out", reference};
+  if (tolerance) words.insert(words.end(), {"--tolerance", fmt::format("{}", *tolerance)});
+  return shell_command(words);
 }
 
 }  // namespace
@@ -40,6 +53,11 @@ void write_reference(const std::string& results, const std::string& out, double 
   }
   const auto records = load_command_records(results, "", {});
   require_replaceable(out);
+  if (std::filesystem::exists(out) && !holds_reference_csv(out)) {
+    throw ReportError(fmt::format("{}: would be replaced, and it is not a reference CSV (fscil-bench writes one "
+                                  "beginning '# fscil-bench reference numbers'); move it away or choose another --out",
+                                  shown_text(out)));
+  }
   if (records.empty()) throw ReportError(fmt::format("{}: no result files to take references from", results));
   const auto values = reference_values_of(records, tolerance);
   write_file_atomically(out, render_reference_csv(values, regenerate_command(results, out, tolerance)));

@@ -191,6 +191,35 @@ struct SavedEmbeddings {
   }
 };
 
+// Where a run keeps the embeddings it has saved so far, beside its checkpoint: a resumed run
+// cannot embed again the sessions before the one it continues from.
+fs::path embeddings_so_far_path(const fs::path& checkpoint_file) {
+  return fs::path(checkpoint_file).replace_extension(".embeddings.h5");
+}
+
+// A resumed run's saved embeddings of the sessions before the last one its checkpoint finished
+// (that one run_sessions hands over again); ProtocolError when one --save-embeddings asks for was
+// not kept before the interruption.
+SavedEmbeddings embeddings_before_the_stop(const std::function<bool(int)>& save_session,
+                                           const std::vector<SessionOutcome>& finished, const fs::path& checkpoint_file) {
+  SavedEmbeddings kept;
+  const fs::path file = embeddings_so_far_path(checkpoint_file);
+  std::vector<std::int32_t> sessions;
+  if (finished.size() > 1 && fs::exists(file)) sessions = read_hdf5_integers(file, "sessions");
+  for (int session = 0; session + 1 < static_cast<int>(finished.size()); ++session) {
+    if (!save_session(session)) continue;
+    if (std::find(sessions.begin(), sessions.end(), session) == sessions.end()) {
+      throw ProtocolError(fmt::format("{}: the embeddings of session {}, which --save-embeddings asks for, were not "
+                                      "kept before the interruption (the interrupted command did not save them); "
+                                      "run this method again without --resume, or leave session {} out",
+                                      checkpoint_file.string(), session, session));
+    }
+    kept.embeddings[session] = read_hdf5_floats(file, fmt::format("session_{}_embeddings", session), 2);
+    kept.labels[session] = read_hdf5_integers(file, fmt::format("session_{}_labels", session));
+  }
+  return kept;
+}
+
 // What every run of the command shares, fixed before the first one trains: its methods and seeds,
 // the values that shape a run, the prepared data and each seed's sessions.
 struct CommandPlan {
@@ -581,6 +610,7 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
   SavedEmbeddings saved_embeddings;
   ScoredEmbeddingSink keep_embeddings;
   if (plan.save_session) {
+    saved_embeddings = embeddings_before_the_stop(plan.save_session, run.checkpoints.finished, run.checkpoint_file);
     keep_embeddings = [&](int session, const torch::Tensor& embeddings, const std::vector<std::int64_t>& labels) {
       if (!plan.save_session(session)) return;
       const torch::Tensor rows = embeddings.to(torch::kFloat).contiguous();
@@ -588,6 +618,7 @@ std::vector<SessionOutcome> run_the_sessions(const RunOptions& options, const Co
       std::copy(rows.data_ptr<float>(), rows.data_ptr<float>() + rows.numel(), array.values.begin());
       saved_embeddings.embeddings[session] = std::move(array);
       saved_embeddings.labels[session] = std::vector<std::int32_t>(labels.begin(), labels.end());
+      saved_embeddings.write(embeddings_so_far_path(run.checkpoint_file), schedule.plan.base_classes);
     };
   }
   const EmbeddingReuse reuse = method_entry(run.method_name).sessions_keep_embedding ? EmbeddingReuse::once_per_run
@@ -640,6 +671,7 @@ void record_run(const RunOptions& options, const CommandPlan& plan, CommandRuns&
   save_run_record(options.out, record);
   std::error_code ignored;
   fs::remove(run.checkpoint_file, ignored);  // the result file now holds everything
+  fs::remove(embeddings_so_far_path(run.checkpoint_file), ignored);
   run.stage_progress->clear();  // kept by a stage whose base then came from the stage cache
   runs.records.push_back(std::move(record));
   if (!run.base_key.empty()) {
@@ -674,6 +706,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
     runs.records.push_back(*done);
     std::error_code ignored;
     fs::remove(run.checkpoint_file, ignored);
+    fs::remove(embeddings_so_far_path(run.checkpoint_file), ignored);
     StageProgressFiles::clear(stage_progress_folder(run.checkpoint_file));
     return;
   }
@@ -769,6 +802,11 @@ CommandSizes sizes_of(const RunOptions& options, const CommandPlan& plan) {
     }
     sizes.runs[plan.seeds[i]] = run;
   }
+  // Training never takes a batch larger than its samples (shuffled_batches), so neither does the
+  // calibration: --set batch_size=2147483647 would have it allocate 64 TB.
+  std::int64_t largest_base = 1;
+  for (const auto& [seed, run] : sizes.runs) largest_base = std::max(largest_base, run.base_train);
+  sizes.pretraining_batch = std::min(sizes.pretraining_batch, largest_base);
   for (std::size_t i = 0; i < plan.method_names.size(); ++i) {
     sizes.method_parameters.emplace(plan.method_names[i], plan.method_params[i]);
   }
