@@ -120,9 +120,15 @@ std::vector<std::string> resolve_method_names(const std::string& request) {
     }
     return names;
   }
+  if (!request.empty() && request.back() == ',') {  // getline drops an empty last item
+    throw MethodError(fmt::format("--methods {}: an empty name after the last comma", request));
+  }
   std::stringstream stream(request);
   std::string name;
   while (std::getline(stream, name, ',')) {
+    if (name == "all" || is_group(name)) {
+      throw MethodError(fmt::format("--methods {}: '{}' stands alone (it names its methods itself)", request, name));
+    }
     if (find_method(name) == nullptr) {
       throw MethodError(fmt::format("unknown method '{}': expected {} or one of {}", name, list_names(), known_names()));
     }

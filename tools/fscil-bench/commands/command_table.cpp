@@ -52,6 +52,10 @@ void Invocation::require_methods_and_dataset() const {
 
 namespace {
 
+// --results of every command that reads an --out folder.
+const CLI::Validator kAFolder = refusing_empty("expected the --out folder of a run");
+
+
 // `--grid key=value1,...` (repeatable): the cells of a sweep.
 void add_grid_option(CLI::App& command, std::vector<std::string>& grid, const char* help) {
   command.add_option("--grid", grid, help);
@@ -292,8 +296,9 @@ class LogMelCommand : public Subcommand {
 class ReportCommand : public Subcommand {
  public:
   void declare(CLI::App& command) override {
-    command.add_option("--results", results_, "directory holding result JSON files")->required();
-    command.add_option("--out", out_, "where to write the tables (default: the results directory)");
+    command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
+    command.add_option("--out", out_, "where to write the tables (default: the results directory)")
+        ->check(refusing_empty("expected a folder; leave the option out for the results folder"));
     command.add_option("--methods", methods_, "the --methods of the command the results are of: rows in that order");
     command.add_option("--grid", grid_, "the --grid of the sweep the results are of: its cells in that order");
     command.add_flag("--paper", paper_, "also write paper_comparison.csv: our numbers beside the paper's, with the difference");
@@ -329,8 +334,9 @@ class ReportCommand : public Subcommand {
 class AnalyzeCommand : public Subcommand {
  public:
   void declare(CLI::App& command) override {
-    command.add_option("--results", results_, "directory holding result JSON files")->required();
-    command.add_option("--out", out_, "where to write context_analysis.csv (default: the results directory)");
+    command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
+    command.add_option("--out", out_, "where to write context_analysis.csv (default: the results directory)")
+        ->check(refusing_empty("expected a folder; leave the option out for the results folder"));
   }
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
@@ -352,9 +358,10 @@ class AnalyzeCommand : public Subcommand {
 class CheckCommand : public Subcommand {
  public:
   void declare(CLI::App& command) override {
-    command.add_option("--results", results_, "directory holding result JSON files")->required();
+    command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
     command.add_option("--reference", reference_, "reference CSV (e.g. reports/reference/simtex-mini-smoke.csv)")
-        ->required();
+        ->required()
+        ->check(refusing_empty("expected a reference CSV"));
   }
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
@@ -368,8 +375,8 @@ class CheckCommand : public Subcommand {
 class ReferenceCommand : public Subcommand {
  public:
   void declare(CLI::App& command) override {
-    command.add_option("--results", results_, "directory holding result JSON files")->required();
-    command.add_option("--out", out_, "reference CSV to write")->required();
+    command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
+    command.add_option("--out", out_, "reference CSV to write")->required()->check(refusing_empty("expected a file"));
     command.add_option("--tolerance", tolerance_, "two-sided tolerance of every value, percentage points")
         ->check(within(reference_tolerance_range()))
         ->capture_default_str();

@@ -20,4 +20,9 @@ inline CLI::Validator within(const ValidRange& valid) {
       valid.describe());
 }
 
+// A path or text option whose empty value means nothing: `refusal` says what to give instead.
+inline CLI::Validator refusing_empty(const std::string& refusal) {
+  return CLI::Validator([refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, "");
+}
+
 }  // namespace fscil

@@ -54,7 +54,8 @@ const std::vector<RunOption>& run_option_table() {
       {"--save-embeddings",
        "last | all | session numbers (0,9): keep the scored test embeddings of those sessions in OUT/embeddings/RUN.h5 "
        "(for the embedding figure of fscil-bench reproduce embedding)",
-       &R::save_embeddings},
+       &R::save_embeddings, W::when_given, false, {}, false,
+       "expected last, all or session numbers (0,9); leave the option out to save none"},
       {"--save-model",
        "keep each run's final method state in OUT/models/RUN.pt: a dict of named tensors that Python's torch.load "
        "reads",
@@ -89,11 +90,7 @@ void declare_run_options(CLI::App& app, RunOptions& options) {
             CLI::Option* option = app.add_option(row.name, options.*member, row.help);
             if (row.range) option->check(within(*row.range));
             if (row.shows_default) option->capture_default_str();
-            if (row.if_empty != nullptr) {
-              const std::string refusal = row.if_empty;
-              option->check(CLI::Validator(
-                  [refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, ""));
-            }
+            if (row.if_empty != nullptr) option->check(refusing_empty(row.if_empty));
           }
         },
         row.member);
