@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -39,9 +41,12 @@ double number_of(const json& value, const std::string& field, const std::string&
 // Stages and value names become CSV fields of the training log as they are.
 void require_csv_text(const std::string& text, const std::string& what, const std::string& expected,
                       const std::string& origin) {
-  if (text.empty() || text.find_first_of(",\"\t\r\n") != std::string::npos) {
-    throw Error(fmt::format("{}: training log {} '{}', expected {} without commas, quotes or line breaks", origin,
-                            what, shown_text(text), expected));
+  const bool control = std::any_of(text.begin(), text.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  if (text.empty() || control || text.find_first_of(",\"") != std::string::npos) {
+    throw Error(fmt::format("{}: training log {} '{}', expected {} without commas, quotes or control characters",
+                            origin, what, shown_text(text), expected));
   }
 }
 
@@ -54,7 +59,15 @@ json field_json(const SessionField& field, const SessionOutcome& session, NonFin
 double field_of(const SessionField& field, const json& value, const std::string& origin) {
   switch (field.kind) {
     case Kind::count: return whole_number<int>(value, field.key, origin, 0);
-    case Kind::samples: return static_cast<double>(whole_number<std::int64_t>(value, field.key, origin, 0));
+    case Kind::samples: {
+      // Held as a double with the accuracies: past 2^53 it would come back as another number.
+      constexpr std::int64_t kMostExact = std::int64_t{1} << 53;
+      const std::int64_t samples = whole_number<std::int64_t>(value, field.key, origin, 0);
+      if (samples > kMostExact) {
+        throw Error(fmt::format("{}: {} {}, expected a whole number from 0 to {}", origin, field.key, samples, kMostExact));
+      }
+      return static_cast<double>(samples);
+    }
     case Kind::percent:
     case Kind::novel_percent:
       if (!value.is_number()) {
@@ -123,11 +136,18 @@ std::vector<EpochLog> training_log_of(const json& rows, const std::string& origi
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const JsonFields<Error> row(rows[i], origin, fmt::format("{}[{}]", path, i));
     row.require_known_keys({"stage", "epoch", "values"});
-    EpochLog epoch{row.text("stage"), row.whole<int>("epoch"), {}};
+    EpochLog epoch{row.text("stage"), row.whole<int>("epoch", 1), {}};
     require_csv_text(epoch.stage, "stage", "text", origin);
     for (const auto& [name, value] : row.object("values").json().items()) {
       require_csv_text(name, "value", "a name", origin);
       epoch.values[name] = number_of(value, "training log " + name, origin);
+    }
+    // A stage counts its epochs up from 1, each once in a session.
+    if (std::any_of(log.begin(), log.end(), [&](const EpochLog& earlier) {
+          return earlier.stage == epoch.stage && earlier.epoch == epoch.epoch;
+        })) {
+      row.fail("epoch", fmt::format("each epoch of stage '{}' once, found epoch {} again", shown_text(epoch.stage),
+                                    epoch.epoch));
     }
     log.push_back(std::move(epoch));
   }

@@ -345,6 +345,15 @@ const HostileCase kCases[] = {
     {"report_out_empty", "report --results {root}/runs --out ''", 2,
      "--out: expected a folder; leave the option out for the results folder", kOrcoRun},
     {"reference_out_empty", "reference --results {root}/runs --out ''", 2, "--out: expected a file", kOrcoRun},
+    // A result file's numbers are read as the runner wrote them, or refused: a count past what a
+    // double holds came back as -9223372036854775808, and a training log no run writes (an epoch
+    // twice, below 1, control characters in a stage) was copied into logs/*.csv.
+    {"result_with_test_samples_past_two_to_the_53", "report --results {root}/runs --out {root}/tables", 1,
+     "test_samples 9223372036854775807, expected a whole number from 0 to 9007199254740992",
+     {"runs/.lock", "runs/results/x.json=@tests/fuzz/corpus/run_record/test_samples_past_two_to_the_53.json"}},
+    {"result_with_a_training_log_epoch_twice", "report --results {root}/runs --out {root}/tables", 1,
+     "expected each epoch of stage 'pretrain' once, found epoch 1 again",
+     {"runs/.lock", "runs/results/x.json=@tests/fuzz/corpus/run_record/training_log_epoch_twice.json"}},
     {"analyze_out_holding_the_users_file", "analyze --results {root}/runs --out {root}/mine", 1,
      "mine/context_analysis.csv would be replaced, and nothing says fscil-bench wrote it",
      with(kOrcoRun, "mine/context_analysis.csv=the user's own\n")},

@@ -403,7 +403,7 @@ TEST(RunRecord, RefusesOtherSelectionsAndCellOrStageTextNoFolderOrCsvFieldCanHol
 
   record.sessions[1].training_log = {{"pre,train", 1, {{"loss", 1}}}};
   EXPECT_EQ(refusal_of(record),
-            "odd.json: training log stage 'pre,train', expected text without commas, quotes or line breaks");
+            "odd.json: training log stage 'pre,train', expected text without commas, quotes or control characters");
   for (const char* stage : {"", "say \"when\"", "tab\tbed", "two\nlines", "carriage\rreturn"}) {
     record.sessions[1].training_log = {{stage, 1, {{"loss", 1}}}};
     EXPECT_NE(refusal_of(record).find("odd.json: training log stage '"), std::string::npos) << stage;
@@ -413,7 +413,7 @@ TEST(RunRecord, RefusesOtherSelectionsAndCellOrStageTextNoFolderOrCsvFieldCanHol
   // Value names become CSV headers of the training log as they are.
   record.sessions[1].training_log = {{"pretrain", 1, {{"loss,ce", 1}}}};
   EXPECT_EQ(refusal_of(record),
-            "odd.json: training log value 'loss,ce', expected a name without commas, quotes or line breaks");
+            "odd.json: training log value 'loss,ce', expected a name without commas, quotes or control characters");
 }
 
 TEST(RunRecord, CellNamesJoinTheKeysInTheGridsOrderWithPlus) {
