@@ -251,6 +251,12 @@ class ReproduceCommand : public Subcommand {
   int run(Invocation& invocation) override {
     if (list_ || name_.empty()) {
       if (!list_) throw CliError("reproduce: expected a NAME or --list");
+      if (!name_.empty()) throw CliError(fmt::format("reproduce {} --list: give a NAME or --list, not both", name_));
+      for (const RunOption& option : run_option_table()) {  // a listing runs nothing: they would go unread
+        if (invocation.given(option.name)) {
+          throw CliError(fmt::format("reproduce --list: {} is read only when a reproduction runs", option.name));
+        }
+      }
       fmt::print("{}", list_reproductions());
       return exit_status::success;
     }
