@@ -52,9 +52,17 @@ void Invocation::require_methods_and_dataset() const {
 
 namespace {
 
-// --results of every command that reads an --out folder.
+// --results of every command that reads an --out folder, and --out of those that write their
+// tables into it by default.
 const CLI::Validator kAFolder = refusing_empty("expected the --out folder of a run");
+const CLI::Validator kTablesFolder = refusing_empty("expected a folder; leave the option out for the results folder");
 
+// The lock on --out of a command that writes tables from `results`: another folder than the
+// results' is claimed as a run's --out is, since its files may be the user's.
+std::optional<OutFolderLock> claim_tables_folder(const std::string& out, const std::string& results) {
+  if (out.empty() || std::filesystem::weakly_canonical(out) == std::filesystem::weakly_canonical(results)) return {};
+  return std::optional<OutFolderLock>(std::in_place, out);
+}
 
 // `--grid key=value1,...` (repeatable): the cells of a sweep.
 void add_grid_option(CLI::App& command, std::vector<std::string>& grid, const char* help) {
@@ -304,7 +312,7 @@ class ReportCommand : public Subcommand {
   void declare(CLI::App& command) override {
     command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
     command.add_option("--out", out_, "where to write the tables (default: the results directory)")
-        ->check(refusing_empty("expected a folder; leave the option out for the results folder"));
+        ->check(kTablesFolder);
     command.add_option("--methods", methods_, "the --methods of the command the results are of: rows in that order");
     command.add_option("--grid", grid_, "the --grid of the sweep the results are of: its cells in that order");
     command.add_flag("--paper", paper_, "also write paper_comparison.csv: our numbers beside the paper's, with the difference");
@@ -320,10 +328,7 @@ class ReportCommand : public Subcommand {
     const std::filesystem::path tables = paper_tables_.empty() ? default_paper_tables() : std::filesystem::path(paper_tables_);
     if (paper_) load_paper_tables(tables);  // a bad file is refused before any table is written
     const std::filesystem::path directory = out_.empty() ? results_ : out_;
-    std::optional<OutFolderLock> claimed;  // another folder's files may be the user's
-    if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
-      claimed.emplace(out_);
-    }
+    const std::optional<OutFolderLock> claimed = claim_tables_folder(out_, results_);
     fmt::print("{}", write_reports(directory, records));
     if (paper_) {
       fmt::print("\n## Beside the paper\n\n{}", write_paper_comparison(directory, records, tables));
@@ -342,15 +347,12 @@ class AnalyzeCommand : public Subcommand {
   void declare(CLI::App& command) override {
     command.add_option("--results", results_, "directory holding result JSON files")->required()->check(kAFolder);
     command.add_option("--out", out_, "where to write context_analysis.csv (default: the results directory)")
-        ->check(refusing_empty("expected a folder; leave the option out for the results folder"));
+        ->check(kTablesFolder);
   }
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
     const auto records = load_command_records(results_, "", {});
-    std::optional<OutFolderLock> claimed;  // as report's: another folder's context_analysis.csv may be the user's
-    if (!out_.empty() && std::filesystem::weakly_canonical(out_) != std::filesystem::weakly_canonical(results_)) {
-      claimed.emplace(out_);
-    }
+    const std::optional<OutFolderLock> claimed = claim_tables_folder(out_, results_);
     write_file_atomically(std::filesystem::path(out_.empty() ? results_ : out_) / "context_analysis.csv",
                           render_context_analysis_csv(records));
     fmt::print("{}", render_context_analysis_markdown(records));
