@@ -9,6 +9,7 @@
 #include <csignal>
 #include <cstring>
 #include <mutex>
+#include <set>
 #include <string_view>
 #include <vector>
 
@@ -110,26 +111,103 @@ void require_replaceable(const fs::path& path) {
   refuse_an_input(path);
 }
 
-void replace_file_atomically(const fs::path& path, const std::function<void(const fs::path& temporary)>& write) {
-  const fs::path folder = path.has_parent_path() ? path.parent_path() : fs::path(".");
+namespace {
+
+fs::path folder_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
+
+// Creates `path`'s folder, checks `path` may be replaced and clears the folder of stale temporaries;
+// returns the temporary to write.
+fs::path prepare_temporary(const fs::path& path) {
+  const fs::path folder = folder_of(path);
   std::error_code error;
   fs::create_directories(folder, error);
   if (error) throw FileError(fmt::format("{}: cannot create its folder ({})", path.string(), error.message()));
   require_replaceable(path);
   remove_stale_temporaries(folder);
-  const fs::path temporary = path.string() + temporary_marker() + std::to_string(::getpid());
+  return path.string() + temporary_marker() + std::to_string(::getpid());
+}
+
+void rename_over(const fs::path& temporary, const fs::path& path) {
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    throw FileError(fmt::format("{}: cannot replace ({})", path.string(), system_message()));
+  }
+}
+
+void remove_quietly(const fs::path& path) {
+  std::error_code ignored;
+  fs::remove(path, ignored);
+}
+
+}  // namespace
+
+void replace_file_atomically(const fs::path& path, const std::function<void(const fs::path& temporary)>& write) {
+  const fs::path temporary = prepare_temporary(path);
   try {
     write(temporary);
     sync_file(temporary, O_RDONLY);
-    if (::rename(temporary.c_str(), path.c_str()) != 0) {
-      throw FileError(fmt::format("{}: cannot replace ({})", path.string(), system_message()));
-    }
+    rename_over(temporary, path);
   } catch (...) {
-    std::error_code ignored;
-    fs::remove(temporary, ignored);
+    remove_quietly(temporary);
     throw;
   }
-  sync_file(folder, O_RDONLY | O_DIRECTORY);
+  sync_file(folder_of(path), O_RDONLY | O_DIRECTORY);
+}
+
+void FileBatch::add(const fs::path& path, std::string content) {
+  for (auto& [added, text] : files_) {
+    if (added == path) {
+      text = std::move(content);
+      return;
+    }
+  }
+  files_.emplace_back(path, std::move(content));
+}
+
+const std::string* FileBatch::find(const fs::path& path) const {
+  const fs::path wanted = path.lexically_normal();
+  for (const auto& [added, text] : files_) {
+    if (added.lexically_normal() == wanted) return &text;
+  }
+  return nullptr;
+}
+
+void FileBatch::replace_all() {
+  std::vector<std::pair<fs::path, fs::path>> written;  // temporary, path
+  std::vector<fs::path> created_folders;                 // parents before their children
+  const auto remove_written = [&](std::size_t from) {
+    for (std::size_t i = from; i < written.size(); ++i) remove_quietly(written[i].first);
+  };
+  try {
+    for (const auto& [path, content] : files_) {
+      std::vector<fs::path> missing;
+      std::error_code error;
+      for (fs::path folder = folder_of(path); !folder.empty() && !fs::exists(fs::symlink_status(folder, error));
+           folder = folder.parent_path()) {
+        missing.push_back(folder);
+      }
+      created_folders.insert(created_folders.end(), missing.rbegin(), missing.rend());
+      const fs::path temporary = prepare_temporary(path);
+      written.emplace_back(temporary, path);
+      write_all(temporary, content);
+      sync_file(temporary, O_RDONLY);
+    }
+  } catch (...) {
+    remove_written(0);
+    for (auto folder = created_folders.rbegin(); folder != created_folders.rend(); ++folder) remove_quietly(*folder);
+    throw;
+  }
+  std::set<fs::path> folders;
+  for (std::size_t i = 0; i < written.size(); ++i) {
+    try {
+      rename_over(written[i].first, written[i].second);
+    } catch (...) {
+      remove_written(i);
+      throw;
+    }
+    folders.insert(folder_of(written[i].second));
+  }
+  for (const fs::path& folder : folders) sync_file(folder, O_RDONLY | O_DIRECTORY);
+  files_.clear();
 }
 
 void never_replace(const fs::path& input) {

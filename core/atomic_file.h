@@ -2,6 +2,8 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
@@ -27,5 +29,23 @@ void require_replaceable(const std::filesystem::path& path);
 
 // replace_file_atomically with `content` as the file's bytes.
 void write_file_atomically(const std::filesystem::path& path, const std::string& content);
+
+// Files that replace their old versions together (a report's tables, figures and page): every
+// file's temporary is written and synced before any is renamed, so a failure while writing (a
+// full disk, a folder that refuses new files) removes the temporaries and leaves every old file
+// as it was, never a folder of some new tables beside old ones.
+class FileBatch {
+ public:
+  // Adds `path` with `content`, or replaces the content added for it before.
+  void add(const std::filesystem::path& path, std::string content);
+  // The content added for `path`, or nullptr.
+  const std::string* find(const std::filesystem::path& path) const;
+  const std::vector<std::pair<std::filesystem::path, std::string>>& files() const { return files_; }
+  // Writes them all as above; the batch is empty afterwards.
+  void replace_all();
+
+ private:
+  std::vector<std::pair<std::filesystem::path, std::string>> files_;
+};
 
 }  // namespace fscil

@@ -59,7 +59,7 @@ std::string why_not_a_folder(const std::filesystem::path& path) {
   return why_not(path, std::filesystem::file_type::directory);
 }
 
-std::string read_text_file(const std::filesystem::path& path) {
+std::string read_text_file(const std::filesystem::path& path, std::uintmax_t at_most, const std::string& what) {
   std::error_code error;
   const auto status = std::filesystem::status(path, error);
   if (std::filesystem::is_directory(status)) {
@@ -71,6 +71,10 @@ std::string read_text_file(const std::filesystem::path& path) {
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open ({})", path.string(), std::strerror(errno)));
+  if (const std::uintmax_t size = std::filesystem::file_size(path, error); !error && size > at_most) {
+    throw FileError(fmt::format("{}: {} bytes, expected {} of at most {} bytes", path.string(), size,
+                                what.empty() ? std::string("a file") : what, at_most));
+  }
   std::stringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) throw FileError(fmt::format("{}: cannot read", path.string()));

@@ -13,6 +13,8 @@ struct LogMelSettings {
   // The filterbank holds (n_fft / 2 + 1) x n_mels weights: these bounds keep it under 2 GiB.
   static constexpr std::int64_t kMaxFftSize = std::int64_t{1} << 20;
   static constexpr std::int64_t kMaxMelBins = 1024;
+  // 10 MHz is past any tactile or audio sensor.
+  static constexpr double kMaxSampleRate = 1e7;
 
   double sample_rate = 16000;
   std::int64_t n_fft = 400;

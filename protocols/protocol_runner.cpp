@@ -18,6 +18,11 @@ namespace fscil {
 
 namespace {
 
+// Whether `label` is among `removed`, in increasing order as SessionPlan::removed_by gives them.
+bool is_among(const std::vector<int>& removed, std::int64_t label) {
+  return std::binary_search(removed.begin(), removed.end(), static_cast<int>(label));
+}
+
 // Whether the base training had finished (metrics/convergence.h): the largest rise of a judged
 // stage as the `base_validation_rise` diagnostic, and the verdict as a progress note.
 void note_training_verdict(SessionOutcome& outcome, ProgressReporter* progress) {
@@ -174,7 +179,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (!removed.empty()) {
       std::vector<std::int64_t> kept, kept_rows;
       for (std::size_t i = 0; i < seen.size(); ++i) {
-        if (std::binary_search(removed.begin(), removed.end(), static_cast<int>(scored_labels[seen[i]]))) continue;
+        if (is_among(removed, scored_labels[seen[i]])) continue;
         kept.push_back(seen[i]);
         kept_rows.push_back(static_cast<std::int64_t>(i));
       }
@@ -203,9 +208,6 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     const SessionData data = gather_session(dataset, schedule, schedule.train[session], session);
     const bool removing = session > 0 && !plan.adds_classes(session);
     const std::vector<int> removed = plan.removed_by(session);  // in increasing order
-    const auto is_removed = [&](std::int64_t label) {
-      return std::binary_search(removed.begin(), removed.end(), static_cast<int>(label));
-    };
     if (context.progress != nullptr && removing) {
       context.progress->stage(fmt::format("session {}/{}: removes classes {}", session, plan.sessions - 1,
                                           fmt::join(data.removed_classes, ", ")));
@@ -217,7 +219,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     if (context.selection == EpochSelection::test_oracle) {
       std::vector<std::int64_t> seen_test;
       for (std::int64_t segment : schedule.scored_segments(EvaluationSplit::test)) {
-        if (schedule.label[segment] < plan.seen_after(session) && !is_removed(schedule.label[segment])) {
+        if (schedule.label[segment] < plan.seen_after(session) && !is_among(removed, schedule.label[segment])) {
           seen_test.push_back(segment);
         }
       }
@@ -226,7 +228,7 @@ std::vector<SessionOutcome> run_sessions(Method& method, const PreparedDataset& 
     context.oracle_test = oracle_test ? &*oracle_test : nullptr;
     SessionOutcome outcome;
     outcome.session = session;
-    outcome.seen_classes = plan.seen_after(session) - static_cast<int>(removed.size());  // the classes scored
+    outcome.seen_classes = plan.present_after(session);  // the classes scored
     context.diagnostics.clear();
     context.training_log.clear();
     context.session_clock = Stopwatch();

@@ -1,13 +1,17 @@
 #pragma once
 #include <filesystem>
 
+#include "core/atomic_file.h"
 #include "reports/figure.h"
 
 namespace fscil {
 
-// Writes `folder`/figures/NAME.svg, NAME.tex (pgfplots) and NAME.csv (the data), creating the
-// folder; each file whole or not at all (write_file_atomically). Throws ReportError for a figure
-// require_valid_figure refuses, before any file is written, and FileError when one cannot be.
+// Adds `folder`/figures/NAME.svg, NAME.tex (pgfplots) and NAME.csv (the data) to `files`. Throws
+// ReportError for a figure require_valid_figure refuses, adding nothing.
+void add_figure(FileBatch& files, const std::filesystem::path& folder, const Figure& figure);
+
+// add_figure, written at once: the three files replace their old versions together or not at all
+// (FileBatch), creating the folder. Throws FileError when one cannot be written.
 void write_figure(const std::filesystem::path& folder, const Figure& figure);
 
 }  // namespace fscil

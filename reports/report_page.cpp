@@ -116,12 +116,46 @@ std::size_t json_files_in(const fs::path& folder) {
   return count;
 }
 
-Folders folder_contents(const fs::path& root) {
-  if (const std::string why = why_not_a_folder(root); !why.empty()) {
-    throw ReportError(fmt::format("{}: {} (expected a results folder)", root.string(), why));
+// The folder as it will be once `pending` (files about to be written, or none) replaces its files.
+struct PageSource {
+  fs::path root;
+  const FileBatch* pending = nullptr;
+
+  const std::string* pending_text(const fs::path& relative) const {
+    return pending == nullptr ? nullptr : pending->find(root / relative);
   }
+  std::string text(const fs::path& relative) const {
+    if (const std::string* text = pending_text(relative)) return *text;
+    return read_text_file(root / relative);
+  }
+  bool has_file(const fs::path& relative) const {
+    std::error_code error;
+    return pending_text(relative) != nullptr || fs::is_regular_file(root / relative, error);
+  }
+};
+
+// Files the page shows: a figure's .svg under figures/, or a table file.
+void add_shown_file(Folders& folders, const fs::path& relative) {
+  const fs::path parent = relative.parent_path();
+  if (parent.filename() == "figures") {
+    if (relative.extension() == ".svg") folders[parent.parent_path().generic_string()].figures.push_back(relative);
+  } else if (is_table_file(relative)) {
+    folders[parent.generic_string()].tables.push_back(relative);
+  }
+}
+
+// A pending file the listing below would show: inside the root, in no hidden, results or checkpoints folder.
+bool is_listed(const fs::path& relative) {
+  if (relative.empty() || relative.is_absolute()) return false;
+  for (const fs::path& part : relative) {
+    const std::string name = part.string();
+    if (name.empty() || name == ".." || name.front() == '.' || name == "results" || name == "checkpoints") return false;
+  }
+  return true;
+}
+
+void add_files_on_disk(Folders& folders, const fs::path& root) {
   std::error_code error;
-  Folders folders;
   fs::recursive_directory_iterator it(root, fs::directory_options::skip_permission_denied, error), end;
   for (; !error && it != end; it.increment(error)) {
     const fs::path relative = it->path().lexically_relative(root);
@@ -139,13 +173,27 @@ Folders folder_contents(const fs::path& root) {
       continue;
     }
     if (directory || name.front() == '.' || !it->is_regular_file(kind_error)) continue;
-    if (parent.filename() == "figures") {
-      if (relative.extension() == ".svg") folders[parent.parent_path().generic_string()].figures.push_back(relative);
-    } else if (is_table_file(relative)) {
-      folders[parent.generic_string()].tables.push_back(relative);
-    }
+    add_shown_file(folders, relative);
   }
   if (error) throw ReportError(fmt::format("{}: cannot list ({})", root.string(), error.message()));
+}
+
+Folders folder_contents(const PageSource& source) {
+  const fs::path& root = source.root;
+  std::error_code exists_error;
+  const bool to_be_created = source.pending != nullptr && !fs::exists(fs::symlink_status(root, exists_error));
+  if (const std::string why = why_not_a_folder(root); !why.empty() && !to_be_created) {
+    throw ReportError(fmt::format("{}: {} (expected a results folder)", root.string(), why));
+  }
+  Folders folders;
+  if (!to_be_created) add_files_on_disk(folders, root);
+  if (source.pending != nullptr) {
+    for (const auto& [path, content] : source.pending->files()) {
+      const fs::path relative = path.lexically_relative(root);
+      std::error_code on_disk_error;
+      if (is_listed(relative) && !fs::exists(path, on_disk_error)) add_shown_file(folders, relative);
+    }
+  }
   const auto in_reading_order = [](const fs::path& a, const fs::path& b) {
     if (reading_rank(a) != reading_rank(b)) return reading_rank(a) < reading_rank(b);
     return natural_less(a.generic_string(), b.generic_string());
@@ -202,8 +250,8 @@ std::string svg_element_text(const std::string& svg, const std::string& name) {
 
 bool is_number(const std::string& text) { return parse_finite_number(text).has_value(); }
 
-std::string inline_table(const fs::path& root, const fs::path& relative) {
-  std::vector<std::string> lines = csv_lines(read_text_file(root / relative));
+std::string inline_table(const PageSource& source, const fs::path& relative) {
+  std::vector<std::string> lines = csv_lines(source.text(relative));
   while (!lines.empty() && lines.back().empty()) lines.pop_back();
   std::string out = fmt::format("<h3>{}</h3>\n", link(relative, relative.generic_string()));
   if (lines.empty()) return out + "<p class=\"rows\">(empty)</p>\n";
@@ -225,8 +273,8 @@ std::string inline_table(const fs::path& root, const fs::path& relative) {
   return out;
 }
 
-std::string figure_entry(const fs::path& root, const fs::path& svg) {
-  const std::string text = read_text_file(root / svg);
+std::string figure_entry(const PageSource& source, const fs::path& svg) {
+  const std::string text = source.text(svg);
   const std::string stem = svg.stem().string();
   std::string title = svg_element_text(text, "title");
   if (title.empty()) title = stem;
@@ -235,15 +283,14 @@ std::string figure_entry(const fs::path& root, const fs::path& svg) {
                                 xml_text("figure-" + svg.generic_string()), href(svg), xml_text(title), xml_text(title));
   if (!note.empty()) out += fmt::format(" <span class=\"note\">({})</span>", xml_text(note));
   out += fmt::format("<br><code>{}</code>", xml_text(svg.generic_string()));
-  std::error_code error;
   for (const auto& [extension, what] : {std::pair<const char*, const char*>{".tex", "pgfplots (.tex)"}, {".csv", "data (.csv)"}}) {
     const fs::path sibling = fs::path(svg).replace_extension(extension);
-    if (fs::is_regular_file(root / sibling, error)) out += " &middot; " + link(sibling, what);
+    if (source.has_file(sibling)) out += " &middot; " + link(sibling, what);
   }
   return out + "</figcaption>\n</figure>\n";
 }
 
-std::string folder_section(const fs::path& root, const std::string& folder, const FolderContents& contents,
+std::string folder_section(const PageSource& source, const std::string& folder, const FolderContents& contents,
                            std::size_t index) {
   std::string out = fmt::format("<section id=\"folder-{}\">\n<h2>{}</h2>\n", index,
                                 folder.empty() ? std::string("This folder") : fmt::format("<code>{}/</code>", xml_text(folder)));
@@ -277,7 +324,7 @@ std::string folder_section(const fs::path& root, const std::string& folder, cons
     if (figure && !in_figures) out += "<div class=\"figures\">\n";
     if (!figure && in_figures) out += "</div>\n";
     in_figures = figure;
-    out += figure ? figure_entry(root, item) : inline_table(root, item);
+    out += figure ? figure_entry(source, item) : inline_table(source, item);
   }
   if (in_figures) out += "</div>\n";
   return out + "</section>\n";
@@ -291,10 +338,11 @@ std::string folder_title(const fs::path& root) {
 
 }  // namespace
 
-std::string render_report_page(const fs::path& results_folder) {
+std::string render_report_page(const fs::path& results_folder, const FileBatch* pending) {
   // "runs/paper/" names the folder "runs/paper" does; without the empty last element paths relate.
   const fs::path root = results_folder.has_filename() ? results_folder : results_folder.parent_path();
-  const Folders folders = folder_contents(root);
+  const PageSource source{root, pending};
+  const Folders folders = folder_contents(source);
   const std::string title = fmt::format("fscil-bench report: {}", folder_title(root));
   std::string out = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n";
@@ -316,9 +364,14 @@ std::string render_report_page(const fs::path& results_folder) {
     out += "</ul></nav>\n";
   }
   for (std::size_t i = 0; i < shown.size(); ++i) {
-    out += folder_section(root, shown[i].first, *shown[i].second, i);
+    out += folder_section(source, shown[i].first, *shown[i].second, i);
   }
   return out + "</body>\n</html>\n";
+}
+
+void add_report_page(FileBatch& files, const fs::path& results_folder) {
+  std::string page = render_report_page(results_folder, &files);
+  files.add(results_folder / "index.html", std::move(page));
 }
 
 void write_report_page(const fs::path& results_folder) {

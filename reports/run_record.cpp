@@ -367,6 +367,12 @@ void save_run_record(const fs::path& directory, const RunRecord& record) {
   write_file_atomically(directory / "results" / run_record_file_name(record), to_json_text(record));
 }
 
+RunRecord read_run_record(const fs::path& file) {
+  RunRecord record = run_record_from_json_text(read_text_file(file, kMaxResultFileBytes, "a result file"), file.string());
+  record.source = file.string();
+  return record;
+}
+
 std::vector<RunRecord> load_run_records(const fs::path& directory) {
   if (const std::string why = why_not_a_folder(directory); !why.empty()) {
     throw ReportError(fmt::format("{}: {} (expected the --out folder of a run)", directory.string(), why));
@@ -389,8 +395,7 @@ std::vector<RunRecord> load_run_records(const fs::path& directory) {
   std::vector<RunRecord> records;
   for (const auto& file : files) {
     never_replace(file);
-    records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
-    records.back().source = file.string();
+    records.push_back(read_run_record(file));
   }
   if (records.empty()) throw ReportError(fmt::format("{}: holds no result files (*.json)", directory.string()));
   // One key order for every cell, so that a cell is one row (files written before the order was

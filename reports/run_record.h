@@ -107,6 +107,13 @@ std::string label_with_cell(const std::string& label, const GridCell& grid);
 std::string to_json_text(const RunRecord& record);
 RunRecord run_record_from_json_text(const std::string& text, const std::string& origin);
 
+// The largest result file read. The runner writes a few hundred KB at most (the fast profile's
+// longest training log, AMFO's, about 520 KB); a larger file is refused before it is read.
+constexpr std::uintmax_t kMaxResultFileBytes = 64u << 20;
+
+// `file` read (at most kMaxResultFileBytes) and parsed; its `source` is `file`.
+RunRecord read_run_record(const std::filesystem::path& file);
+
 void save_run_record(const std::filesystem::path& directory, const RunRecord& record);
 // Every *.json result file below `directory`, sorted by path, the keys of their sweep cells in one
 // order (the first file's, then keys it lacks as they come). Throws ReportError on a bad file

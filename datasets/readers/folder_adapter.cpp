@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "core/json_fields.h"
 #include "core/text_file.h"
+#include "datasets/log_mel_settings.h"
 #include "datasets/readers/regular_file.h"
 #include "datasets/readers/text_table.h"
 #include "core/shown_text.h"
@@ -26,9 +27,9 @@ using nlohmann::json;
 
 namespace {
 
-// Bounds before work grows: 10 MHz is past any tactile or audio sensor, and a segment of 100 M
-// samples (400 MB a channel) past any front end's input.
-constexpr double kMaxSampleRate = 1e7;
+// Bounds before work grows: a segment of 100 M samples (400 MB a channel) is past any front end's
+// input (the sample rate's bound is LogMelSettings').
+constexpr double kMaxSampleRate = LogMelSettings::kMaxSampleRate;
 constexpr double kMaxSegmentSamples = 1e8;
 constexpr int kMaxShot = 100000;
 

@@ -93,5 +93,49 @@ TEST(AtomicFile, RemovesTemporariesOfDeadProcessesOfThisHostOnly) {
   EXPECT_EQ(names_in(directory.path()), expected);
 }
 
+TEST(FileBatch, ReplacesEveryFileTogether) {
+  TemporaryDirectory directory;
+  const auto table = directory.path() / "summary.csv", figure = directory.path() / "figures" / "aa.svg";
+  write_file_atomically(table, "old\n");
+  FileBatch files;
+  files.add(table, "first\n");
+  files.add(figure, "<svg/>\n");
+  files.add(table, "new\n");  // the later content wins
+  ASSERT_NE(files.find(directory.path() / "." / "summary.csv"), nullptr);
+  EXPECT_EQ(*files.find(directory.path() / "." / "summary.csv"), "new\n");
+  EXPECT_EQ(files.find(directory.path() / "costs.csv"), nullptr);
+  files.replace_all();
+  EXPECT_EQ(read_text_file(table), "new\n");
+  EXPECT_EQ(read_text_file(figure), "<svg/>\n");
+  EXPECT_EQ(names_in(directory.path()), (std::vector<std::string>{"figures", "summary.csv"}));
+  EXPECT_TRUE(files.files().empty());
+}
+
+// A report whose last figure cannot be written (here a folder in its place; a full disk does the
+// same) must not leave new tables beside old figures: nothing is replaced, no temporary is left.
+TEST(FileBatch, AFileThatCannotBeWrittenLeavesEveryOldFileAsItWas) {
+  TemporaryDirectory directory;
+  const auto table = directory.path() / "summary.csv", costs = directory.path() / "costs.csv";
+  const auto figure = directory.path() / "figures" / "aa.svg";
+  write_file_atomically(table, "old table\n");
+  write_file_atomically(costs, "old costs\n");
+  fs::create_directories(figure);
+  FileBatch files;
+  files.add(table, "new table\n");
+  files.add(costs, "new costs\n");
+  files.add(directory.path() / "logs" / "run.csv", "epoch,loss\n");  // a folder the batch would create
+  files.add(figure, "<svg/>\n");
+  try {
+    files.replace_all();
+    FAIL() << "expected an error";
+  } catch (const FileError& error) {
+    EXPECT_EQ(std::string(error.what()), figure.string() + ": is a directory, a file was expected");
+  }
+  EXPECT_EQ(read_text_file(table), "old table\n");
+  EXPECT_EQ(read_text_file(costs), "old costs\n");
+  EXPECT_EQ(names_in(directory.path()), (std::vector<std::string>{"costs.csv", "figures", "summary.csv"}));
+  EXPECT_EQ(names_in(directory.path() / "figures"), std::vector<std::string>{"aa.svg"});
+}
+
 }  // namespace
 }  // namespace fscil

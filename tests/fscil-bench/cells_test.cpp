@@ -242,13 +242,25 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
   expect_one_error_line(run_cli(command + " \"$(printf -- '--sbatch-arg=--account=a\\nrm -rf /')\""),
                         "--sbatch-arg '--account=a\\nrm -rf /': expected one sbatch option on one line");
   // The array, threads and logs are the command's: neither an option nor its prefix may set them over.
-  for (const char* computed : {"--array=0-99", "--arr=1", "--cpus-per-task=64", "--output=/tmp/x"}) {
+  // Nor may one undo the SIGTERM-safe stop, the requeue, the error log or --time, --mem, --partition
+  // (round seven: each added a second, contradicting #SBATCH line).
+  for (const char* computed : {"--array=0-99", "--arr=1", "--cpus-per-task=64", "--output=/tmp/x", "--error=/tmp/x",
+                               "--no-requeue", "--requeue", "--time=2:00:00", "--mem=1G", "--partition=b"}) {
     const CommandResult overridden = run_cli(command + " --sbatch-arg=" + computed);
     expect_one_error_line(overridden, "is fscil-bench's to set");
     EXPECT_EQ(overridden.exit_code, 2) << overridden.output;
   }
+  for (const char* signal : {"--signal=KILL", "--signal=B:USR1@60", "--sig=TERM@60"}) {
+    const CommandResult overridden = run_cli(command + " --sbatch-arg=" + signal);
+    expect_one_error_line(overridden, "expected --signal=B:TERM@SECONDS to move it (fscil-bench's is B:TERM@120)");
+    EXPECT_EQ(overridden.exit_code, 2) << overridden.output;
+  }
   EXPECT_EQ(run_cli(command + " --sbatch-arg=--account=abc --sbatch-arg=--qos=short --sbatch-arg=--job-name=mine "
                               "--sbatch-arg=--signal=B:TERM@300").exit_code, 0);
+  // The signal moved: one --signal line, the user's.
+  const std::string moved = read_text(folder.path() / "runs" / "slurm" / "array.sbatch");
+  EXPECT_NE(moved.find("#SBATCH --signal=B:TERM@300\n"), std::string::npos) << moved;
+  EXPECT_EQ(moved.find("--signal=", moved.find("--signal=") + 1), std::string::npos) << moved;
   // Values that reach #SBATCH lines are checked as what they are, before anything is written.
   TemporaryDirectory refused;
   const std::string elsewhere = "slurm --methods prototype --dataset simtex-mini --profile smoke --out " +

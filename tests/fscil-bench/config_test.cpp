@@ -82,6 +82,18 @@ TEST(Cli, RerunRepeatsARunFromItsResultFileExactly) {
   std::ofstream(many) << text;
   expect_one_error_line(run_cli("rerun " + many.string() + " --quiet --no-cache --out " + (folder.path() / "many").string()),
                         "many.json: threads 100000, expected at most");
+  // Round seven: a file lacking a value the run reads once ran with the default in its place.
+  text = read_text(result);
+  const std::string temperature = "\"temperature\": \"16\",";
+  ASSERT_NE(text.find(temperature), std::string::npos) << text;
+  text.erase(text.find(temperature), temperature.size());
+  const auto lacking = folder.path() / "lacking.json";
+  std::ofstream(lacking) << text;
+  const auto lacking_out = folder.path() / "lacking";
+  const CommandResult refused = run_cli("rerun " + lacking.string() + " --quiet --no-cache --out " + lacking_out.string());
+  expect_one_error_line(refused, "lacking.json: field 'parameters.temperature' missing, expected every value the run reads");
+  EXPECT_EQ(refused.exit_code, 1);
+  EXPECT_FALSE(std::filesystem::exists(lacking_out / "results"));
 }
 
 }  // namespace

@@ -357,6 +357,25 @@ const HostileCase kCases[] = {
     {"reproduce_list_with_a_name", "reproduce bogus --list", 2, "reproduce bogus --list: give a NAME or --list, not both"},
     {"reproduce_list_with_run_options", "reproduce --list --dataset bogus --seeds 3-1", 2,
      "reproduce --list: --dataset is read only when a reproduction runs"},
+    // Round seven: a report that fails part-way (a full disk, a folder in a file's place) once left
+    // new tables beside old figures and an old page; its files replace the old ones together.
+    {"report_failing_at_its_last_file", "report --results {root}/runs --out {root}/tables", 1,
+     "tables/index.html: is a directory, a file was expected",
+     with(with(kOrcoRun, "tables/.lock"), "tables/index.html/")},
+    // Round seven: an output inside the results folder's results/ broke that folder for every
+    // later report, analyze and check.
+    {"report_out_among_the_result_files", "report --results {root}/runs --out {root}/runs/results/tables.json", 2,
+     "runs/results/tables.json: inside ", kOrcoRun},
+    {"report_out_among_the_result_files_named", "report --results {root}/runs --out {root}/runs/results/x", 2,
+     "runs/results/, which holds a run's own files; every later command reading",
+     kOrcoRun},
+    {"analyze_out_the_result_folder_itself", "analyze --results {root}/runs --out {root}/runs/results", 2,
+     "runs/results: inside ", kOrcoRun},
+    {"reference_out_among_the_result_files", "reference --results {root}/runs --out {root}/runs/results/ref.json", 2,
+     "runs/results/ref.json: inside ", kOrcoRun},
+    // Round seven: the words came back last first ("'prototype --methods'").
+    {"analyze_with_words_it_does_not_take", "analyze --results {root}/runs --methods prototype", 2,
+     "'--methods prototype': not an option, value or subcommand this command takes", kOrcoRun},
     {"analyze_out_holding_the_users_file", "analyze --results {root}/runs --out {root}/mine", 1,
      "mine/context_analysis.csv would be replaced, and nothing says fscil-bench wrote it",
      with(kOrcoRun, "mine/context_analysis.csv=the user's own\n")},
@@ -428,6 +447,26 @@ TEST(HostileInput, APlanOfABatchLargerThanTheDataIsEstimatedAsTrainingRunsIt) {
                                      "--no-cache --out " + (root.path() / "out").string() + " --set batch_size=2147483647");
   EXPECT_EQ(plan.exit_code, 0) << plan.output;
   EXPECT_NE(plan.output.find("estimated "), std::string::npos) << plan.output;
+}
+
+// Round seven: a 300 MB result file took 1.3 GB of memory before its error line; a few GB would
+// have been killed. A file past any result's size is refused before it is read (a sparse file here).
+TEST(HostileInput, AResultFileLargerThanAnyResultIsRefusedUnread) {
+  TemporaryDirectory root;
+  fs::create_directories(root.path() / "runs" / "results");
+  std::ofstream(root.path() / "runs" / ".lock");
+  const fs::path huge = root.path() / "runs" / "results" / "huge.json";
+  std::ofstream(huge) << "{}";
+  fs::resize_file(huge, (64u << 20) + 1);
+  for (const std::string command : {"report", "analyze", "reference"}) {
+    const CommandResult result = run_cli(command + " --results " + (root.path() / "runs").string() + " --out " +
+                                         (root.path() / (command == "reference" ? "ref.csv" : "tables")).string());
+    expect_one_error_line(result, "huge.json: 67108865 bytes, expected a result file of at most 67108864 bytes");
+    EXPECT_EQ(result.exit_code, 1) << command;
+  }
+  const CommandResult rerun = run_cli("rerun " + huge.string() + " --out " + (root.path() / "again").string());
+  expect_one_error_line(rerun, "huge.json: 67108865 bytes, expected a result file of at most");
+  EXPECT_FALSE(fs::exists(root.path() / "again"));
 }
 
 // Round seven: the command reference writes as its CSV's comment (and check prints) is quoted for a

@@ -90,6 +90,13 @@ TEST(Cli, LogMelConvertsAndRejectsBadFilesWithoutWritingOutput) {
                                 " --sample-rate 1e-300 --n-fft 128 --hop 16 --n-mels 64"),
                         "all 64 Mel filters are empty, so every feature would be -100 dB");
   EXPECT_FALSE(std::filesystem::exists(silent));
+  // Round seven: 1e308 Hz was accepted with a warning; dataset.json's bound holds here too.
+  const CommandResult past = run_cli("logmel --input " + input.string() + " --output " + silent.string() +
+                                     " --sample-rate 1e308 --n-fft 64 --hop 16 --n-mels 8");
+  expect_one_error_line(past, "--sample-rate");
+  EXPECT_NE(past.output.find("expected a number in (0, 10000000]"), std::string::npos) << past.output;
+  EXPECT_EQ(past.exit_code, 2) << past.output;
+  EXPECT_FALSE(std::filesystem::exists(silent));
   // A folder or an unreadable file as the input is said to be one, not "truncated or corrupt".
   expect_one_error_line(run_cli("logmel --input " + directory.path().string() + " --output " + silent.string() + settings),
                         directory.path().string() + ": a folder, expected an HDF5 file");

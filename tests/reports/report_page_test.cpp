@@ -164,6 +164,29 @@ TEST(ReportPage, WritesIndexHtml) {
   EXPECT_EQ(render_report_page(temporary.path()), written);  // the page does not list itself
 }
 
+// A report renders its page before its tables and figures are written, so that all of them replace
+// the old ones together: the page of the pending files must be the page of the folder once written.
+TEST(ReportPage, OfPendingFilesIsThePageOfTheFolderOnceTheyAreWritten) {
+  for (const bool folder_exists : {true, false}) {
+    const TemporaryDirectory temporary;
+    const fs::path folder = temporary.path() / "out";
+    if (folder_exists) write_results_folder(folder);
+    FileBatch files;
+    files.add(folder / "summary.csv", "method,dataset,AA\nprototype,simtex,71.50\n");
+    files.add(folder / "costs.csv", "method,flops\nprototype,12\n");
+    Figure figure = accuracy_figure("Accuracy, new");
+    figure.name = "sessions_simtex_all";
+    add_figure(files, folder, figure);
+    add_report_page(files, folder);
+    const std::string pending_page = *files.find(folder / "index.html");
+    EXPECT_NE(pending_page.find("71.50"), std::string::npos);
+    EXPECT_NE(pending_page.find("alt=\"Accuracy, new\""), std::string::npos);
+    files.replace_all();
+    EXPECT_EQ(read_text_file(folder / "index.html"), pending_page) << (folder_exists ? "a folder" : "a new folder");
+    EXPECT_EQ(render_report_page(folder), pending_page);
+  }
+}
+
 TEST(ReportPage, SaysSoWhenTheFolderIsEmptyAndRefusesAMissingOne) {
   const TemporaryDirectory temporary;
   const std::string page = render_report_page(temporary.path());

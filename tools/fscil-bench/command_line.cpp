@@ -79,7 +79,11 @@ std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
     return fmt::format("{} '{}': expected {}", match[1].str(), match[2].str(), expected);
   }
   if (std::regex_match(text, match, unexpected)) {
-    return fmt::format("'{}': not an option, value or subcommand this command takes", match[1].str());
+    // CLI11's message lists the words last first ("'x --mem=8G'" for "--mem=8G x"); what is left
+    // unparsed is in the order typed.
+    const std::vector<std::string> left = app.remaining(true);
+    const std::string words = left.empty() ? match[1].str() : fmt::format("{}", fmt::join(left, " "));
+    return fmt::format("'{}': not an option, value or subcommand this command takes", words);
   }
   if (std::regex_match(text, match, missing)) return fmt::format("{}: expected a value after it", match[1].str());
   if (std::regex_match(text, match, repeated)) {

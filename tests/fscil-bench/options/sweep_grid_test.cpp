@@ -55,6 +55,9 @@ TEST(SweepGrid, ErrorsNameTheGridTextAndTheCulprit) {
   };
   EXPECT_EQ(message({"shot"}), "--grid 'shot': expected key=value1,value2,...");
   EXPECT_EQ(message({"shot=1,2,1"}), "--grid 'shot=1,2,1': value 1 given twice");
+  // Round seven: 16 and 16.0 named two cells of one run.
+  EXPECT_EQ(message({"temperature=16,8,16.0"}), "--grid 'temperature=16,8,16.0': values 16 and 16.0 are one number; give it once");
+  EXPECT_EQ(message({"context_strength=1,1e0"}), "--grid 'context_strength=1,1e0': values 1 and 1e0 are one number; give it once");
   EXPECT_EQ(message({"shot=1", "shot=2"}), "--grid shot: given twice; list all its values in one --grid");
   EXPECT_NE(message({"shot=1,,2"}).find("--grid 'shot=1,,2': value '' is empty"), std::string::npos);
   EXPECT_EQ(message({}), "sweep: expected at least one --grid key=value1,value2,...");

@@ -137,7 +137,7 @@ std::optional<std::vector<RunRecord>> cell_records(const RunOptions& run, const 
   for (const std::string& method : cell.methods) {
     const fs::path file = result_file_of(run, cell, method);
     if (!fs::exists(file)) return std::nullopt;
-    records.push_back(run_record_from_json_text(read_text_file(file), file.string()));
+    records.push_back(read_run_record(file));
   }
   return records;
 }

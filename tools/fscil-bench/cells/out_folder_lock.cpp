@@ -80,6 +80,24 @@ void refuse_folder_being_written(const std::filesystem::path& folder) {
   }
 }
 
+void refuse_output_among_run_files(const std::string& option, const std::filesystem::path& output,
+                                   const std::filesystem::path& results) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::path inside = fs::weakly_canonical(output, error);
+  if (error) return;  // an output that cannot be resolved is refused where it is written
+  for (const char* run_folder : {"results", "checkpoints", "cells"}) {
+    const fs::path folder = fs::weakly_canonical(results / run_folder, error);
+    if (error) continue;
+    const fs::path relative = inside.lexically_relative(folder);
+    if (!relative.empty() && *relative.begin() != "..") {
+      throw CliError(fmt::format("{} {}: inside {}/, which holds a run's own files; every later command reading "
+                                 "{} would take it for one: write it elsewhere", option, output.string(),
+                                 (results / run_folder).string(), results.string()));
+    }
+  }
+}
+
 OutFolderLock::OutFolderLock(const std::filesystem::path& folder, Hold hold) {
   refuse_files_not_ours(folder);
   std::error_code error;

@@ -28,6 +28,12 @@ bool written_by_fscil_bench(const std::filesystem::path& folder);
 // creates no file.
 void refuse_folder_being_written(const std::filesystem::path& folder);
 
+// Throws CliError when `output` (what `option` names: a folder of tables, a reference CSV) lies in
+// a folder of `results` that holds a run's own files (results/, checkpoints/, cells/): every later
+// command reading `results` would find it there and refuse the folder.
+void refuse_output_among_run_files(const std::string& option, const std::filesystem::path& output,
+                                   const std::filesystem::path& results);
+
 class OutFolderLock {
  public:
   // The whole folder (creates it if needed).

@@ -60,6 +60,7 @@ const CLI::Validator kTablesFolder = refusing_empty("expected a folder; leave th
 // The lock on --out of a command that writes tables from `results`: another folder than the
 // results' is claimed as a run's --out is, since its files may be the user's.
 std::optional<OutFolderLock> claim_tables_folder(const std::string& out, const std::string& results) {
+  if (!out.empty()) refuse_output_among_run_files("--out", out, results);
   if (out.empty() || std::filesystem::weakly_canonical(out) == std::filesystem::weakly_canonical(results)) return {};
   return std::optional<OutFolderLock>(std::in_place, out);
 }
@@ -224,7 +225,7 @@ class RerunCommand : public Subcommand {
     RunOptions& run = invocation.run;
     if (!invocation.given("--out") && invocation.resume_dir.empty()) run.out = "rerun";
     never_replace(file_);
-    const RunRecord record = run_record_from_json_text(read_text_file(file_), file_);
+    const RunRecord record = read_run_record(file_);
     require_profile(record.profile, file_);
     // A result file may hold more threads than --threads takes (--threads 0 on a larger node), but
     // not more than this machine has or --threads takes, whichever is more: 100000 written in a
@@ -286,7 +287,7 @@ class LogMelCommand : public Subcommand {
     command.add_option("--input", options_.input, "HDF5 file with dataset /signal (float32, C x L)")->required();
     command.add_option("--output", options_.output, "HDF5 file to write /logmel (float32, C x M x T)")->required();
     command.add_option("--sample-rate", options_.settings.sample_rate, "sample rate in Hz")
-        ->check(within(ValidRange::above(0)))
+        ->check(within(ValidRange::above_up_to(0, LogMelSettings::kMaxSampleRate)))
         ->required();
     command.add_option("--n-fft", options_.settings.n_fft, "FFT size")->check(within(ValidRange::at_least(2)))->required();
     command.add_option("--hop", options_.settings.hop, "hop in samples")->check(within(ValidRange::at_least(1)))->required();
@@ -329,10 +330,7 @@ class ReportCommand : public Subcommand {
     if (paper_) load_paper_tables(tables);  // a bad file is refused before any table is written
     const std::filesystem::path directory = out_.empty() ? results_ : out_;
     const std::optional<OutFolderLock> claimed = claim_tables_folder(out_, results_);
-    fmt::print("{}", write_reports(directory, records));
-    if (paper_) {
-      fmt::print("\n## Beside the paper\n\n{}", write_paper_comparison(directory, records, tables));
-    }
+    fmt::print("{}", write_reports(directory, records, paper_ ? std::optional(tables) : std::nullopt));
     return exit_status::success;
   }
 
@@ -391,6 +389,7 @@ class ReferenceCommand : public Subcommand {
   }
   int run(Invocation&) override {
     refuse_folder_being_written(results_);
+    refuse_output_among_run_files("--out", out_, results_);
     write_reference(results_, out_, tolerance_);
     return exit_status::success;
   }

@@ -51,6 +51,7 @@ void write_reference(const std::string& results, const std::string& out, double 
     throw ReportError(fmt::format("--tolerance {}: expected percentage points {}", tolerance,
                                   reference_tolerance_range().describe()));
   }
+  tolerance += 0.0;  // -0 is 0: written as 0.0000, not -0.0000
   const auto records = load_command_records(results, "", {});
   require_replaceable(out);
   if (std::filesystem::exists(out) && !holds_reference_csv(out)) {

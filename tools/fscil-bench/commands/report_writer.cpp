@@ -17,41 +17,43 @@
 
 namespace fscil {
 
-std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records) {
+std::filesystem::path default_paper_tables() { return reference_file("paper_tables.csv"); }
+
+std::string write_reports(const std::filesystem::path& out, const std::vector<RunRecord>& records,
+                          const std::optional<std::filesystem::path>& paper_tables) {
+  FileBatch files;
   const SummaryTable table = summarize_runs(records);
-  write_file_atomically(out / "summary.csv", render_csv(table));
-  write_file_atomically(out / "sessions.csv", render_tidy_sessions_csv(records));
-  write_file_atomically(out / "results.tex", render_latex(table));
+  files.add(out / "summary.csv", render_csv(table));
+  files.add(out / "sessions.csv", render_tidy_sessions_csv(records));
+  files.add(out / "results.tex", render_latex(table));
   const bool several_cells = std::any_of(records.begin(), records.end(),
                                         [&](const RunRecord& record) { return !same_cell(record.grid, records.front().grid); });
   for (const auto& record : records) {
-    write_file_atomically(out / training_log_path(record, several_cells), render_training_log_csv(record));
+    files.add(out / training_log_path(record, several_cells), render_training_log_csv(record));
   }
   const std::vector<CostRow> costs = summarize_costs(records);
-  write_file_atomically(out / "costs.csv", render_cost_csv(costs));
-  write_file_atomically(out / "costs.tex", render_cost_latex(costs));
+  files.add(out / "costs.csv", render_cost_csv(costs));
+  files.add(out / "costs.tex", render_cost_latex(costs));
   for (const auto& dataset : table.datasets()) {
     for (const SessionMetric metric : {SessionMetric::all, SessionMetric::base, SessionMetric::novel,
                                        SessionMetric::harmonic}) {
-      write_figure(out, session_accuracy_figure(table, dataset, metric));
+      add_figure(files, out, session_accuracy_figure(table, dataset, metric));
     }
     if (const Figure context = context_ratio_figure(records, dataset); !context.series.empty()) {
-      write_figure(out, context);
+      add_figure(files, out, context);
     }
-    for (const Figure& figure : efficiency_figures(costs, dataset)) write_figure(out, figure);
+    for (const Figure& figure : efficiency_figures(costs, dataset)) add_figure(files, out, figure);
   }
-  write_report_page(out);
-  return render_markdown(table) + "\n" + render_cost_markdown(costs);
-}
-
-std::filesystem::path default_paper_tables() { return reference_file("paper_tables.csv"); }
-
-std::string write_paper_comparison(const std::filesystem::path& out, const std::vector<RunRecord>& records,
-                                   const std::filesystem::path& paper_tables) {
-  fmt::print(stderr, "{}", unfinished_warning(records));
-  const auto rows = compare_with_paper(summarize_runs(records), load_paper_tables(paper_tables));
-  write_file_atomically(out / "paper_comparison.csv", render_paper_comparison_csv(rows));
-  return render_paper_comparison_markdown(rows);
+  std::string markdown = render_markdown(table) + "\n" + render_cost_markdown(costs);
+  if (paper_tables) {
+    fmt::print(stderr, "{}", unfinished_warning(records));
+    const auto rows = compare_with_paper(table, load_paper_tables(*paper_tables));
+    files.add(out / "paper_comparison.csv", render_paper_comparison_csv(rows));
+    markdown += "\n## Beside the paper\n\n" + render_paper_comparison_markdown(rows);
+  }
+  add_report_page(files, out);
+  files.replace_all();
+  return markdown;
 }
 
 }  // namespace fscil

@@ -38,6 +38,8 @@ struct Results {
   std::vector<RunRecord> records;
   SummaryTable table;
   std::vector<CostRow> costs;
+  // The reproduction's figures and tables, written with its page at the end, together.
+  FileBatch files;
 };
 
 // The three renderings of a reproduction's table, written as OUT/NAME.{md,csv,tex}.
@@ -52,7 +54,7 @@ struct Reproduction {
   const char* methods;
   std::vector<std::string> grid;     // empty: one run command, no sweep
   const char* save_embeddings;       // --save-embeddings of its runs ("" for none)
-  std::function<Rendered(const Results&)> write;
+  std::function<Rendered(Results&)> write;
 };
 
 fs::path paper_file(const char* name) { return reference_file(name); }
@@ -102,11 +104,11 @@ Rendered setting_table(const Results& results, const char* name, const char* cap
 }
 
 // Figures of a metric against the reproduction's (first) sweep key, one per metric.
-void write_grid_figures(const Results& results, const std::vector<std::string>& metrics, const std::string& what) {
+void add_grid_figures(Results& results, const std::vector<std::string>& metrics, const std::string& what) {
   const GridAxis& axis = results.axes.front();
   const std::string& key = axis.key;
   for (const auto& metric : metrics) {
-    write_figure(results.out, grid_metric_figure(results.table, results.dataset, key, axis.values, metric,
+    add_figure(results.files, results.out, grid_metric_figure(results.table, results.dataset, key, axis.values, metric,
                                                  fmt::format("{}_{}_{}", what, results.dataset, metric),
                                                  fmt::format("{} against {} on {}", metric, key, results.dataset)));
   }
@@ -116,16 +118,16 @@ const std::vector<Reproduction>& reproductions() {
   static const std::vector<Reproduction> catalogue = {
       {"results", "Comparison on HapTex, LMT108, LS-100 and NS-100 (Tables II-V); accuracy per session (Fig. 5)",
        "every method, one run per seed", "all", {}, "",
-       [](const Results& results) { return beside_paper(results, "Comparison"); }},
+       [](Results& results) { return beside_paper(results, "Comparison"); }},
       {"ablation", "Progressive ablation on HapTex and LMT108 (Tables VI-VII) and its figure",
        "pits-sc and the four cop-fscil variants", "ablation", {}, "",
-       [](const Results& results) {
-         write_figure(results.out, ablation_figure(results.table, results.dataset, "ablation_" + results.dataset));
+       [](Results& results) {
+         add_figure(results.files, results.out, ablation_figure(results.table, results.dataset, "ablation_" + results.dataset));
          return beside_paper(results, "Progressive ablation");
        }},
       {"efficiency", "Computational efficiency: FLOPs, parameters (NP) and inference time (IT) of each method",
        "every method, one run per seed; the cost table", "all", {}, "",
-       [](const Results& results) {
+       [](Results& results) {
          // efficiency_DATASET_{flops,params,it} are among the figures every report writes.
          return Rendered{render_cost_markdown(results.costs), render_cost_csv(results.costs),
                          render_cost_latex(results.costs)};
@@ -133,29 +135,29 @@ const std::vector<Reproduction>& reproductions() {
       {"lambda", "Sensitivity analysis of the loss weight lambda for L_PIC on HapTex",
        "cop-fscil over pic_weight = 0, 1, 0.1, 0.01, 0.001, 0.0001", "cop-fscil",
        {"pic_weight=0,1,0.1,0.01,0.001,0.0001"}, "",
-       [](const Results& results) {
-         write_grid_figures(results, {"AA", "PD"}, "lambda");
+       [](Results& results) {
+         add_grid_figures(results, {"AA", "PD"}, "lambda");
          return setting_table(results, "lambda", "Sensitivity analysis of the loss weight lambda for L_PIC",
                               "cop-fscil");
        }},
       {"reference-selection", "Effect of pseudo-context statistic transfer strategies in CPI",
        "cop-fscil with random and with farthest reference statistics", "cop-fscil", {"cpi_reference=random,farthest"},
        "",
-       [](const Results& results) {
+       [](Results& results) {
          return setting_table(results, "reference-selection",
                               "Effect of pseudo-context statistic transfer strategies in CPI", "cop-fscil");
        }},
       {"cpi-coverage", "Effect of different CPI coverage settings on support and query samples",
        "cop-fscil over CPI coverage of support and query samples, 100% and 60% each", "cop-fscil",
        {"cpi_support_coverage=1,0.6", "cpi_query_coverage=1,0.6"}, "",
-       [](const Results& results) {
+       [](Results& results) {
          return setting_table(results, "cpi-coverage",
                               "Effect of different CPI coverage settings on support and query samples", "cop-fscil");
        }},
       {"fewer-shot", "Average Accuracy and Performance Drop with different numbers of shots during incremental sessions",
        "pits-sc and cop-fscil with 1 to 5 shots per novel class", "pits-sc,cop-fscil", {"shot=1,2,3,4,5"}, "",
-       [](const Results& results) {
-         write_grid_figures(results, {"AA", "PD"}, "fewer_shot");
+       [](Results& results) {
+         add_grid_figures(results, {"AA", "PD"}, "fewer_shot");
          Rendered both;
          for (const char* method : {"pits-sc", "cop-fscil"}) {
            const Rendered one = setting_table(results, "fewer-shot", "AA and PD with fewer shots", method);
@@ -168,10 +170,10 @@ const std::vector<Reproduction>& reproductions() {
       {"nps", "Incremental update time under different values of N_ps, and PSPC's sensitivity to N_ps",
        "cop-fscil over N_ps = 5, 10, 50, 100, 500, 1000 (the base is trained once: N_ps acts in sessions only)",
        "cop-fscil", {"pspc_probes=5,10,50,100,500,1000"}, "",
-       [](const Results& results) {
-         write_grid_figures(results, {"AA"}, "nps");
+       [](Results& results) {
+         add_grid_figures(results, {"AA"}, "nps");
          const GridAxis& probes = results.axes.front();
-         write_figure(results.out, grid_update_time_figure(results.costs, results.dataset, probes.key,
+         add_figure(results.files, results.out, grid_update_time_figure(results.costs, results.dataset, probes.key,
                                                            probes.values, "nps_update_time_" + results.dataset,
                                                            "Incremental update time against N_ps on " + results.dataset));
          return setting_table(results, "nps", "Incremental update time under different values of N_ps", "cop-fscil",
@@ -180,7 +182,7 @@ const std::vector<Reproduction>& reproductions() {
       {"context", "Context-to-class dispersion R per session (context analysis)",
        "pits-sc and cop-fscil, one run per seed; R of the test embeddings after every session", "pits-sc,cop-fscil",
        {}, "",
-       [](const Results& results) {
+       [](Results& results) {
          // context_ratio_DATASET is among the figures every report writes.
          const Figure figure = context_ratio_figure(results.records, results.dataset);
          std::string csv = "method,session,R\n", markdown = "### R per session (mean over seeds)\n\n";
@@ -195,13 +197,13 @@ const std::vector<Reproduction>& reproductions() {
        }},
       {"embedding", "Embedding-space visualisation of PITS-SC and CoP-FSCIL (5 base + 5 novel classes, PCA, unit circle)",
        "pits-sc and cop-fscil with --save-embeddings last", "pits-sc,cop-fscil", {}, "last",
-       [](const Results& results) {
+       [](Results& results) {
          std::string markdown = "### Embedding figures\n\n";
          for (const auto& record : results.records) {
            const fs::path file = results.out / "embeddings" /
                                  fs::path(run_record_file_name(record)).replace_extension(".h5");
            const std::string name = fmt::format("embedding_{}_seed{}", record.method, record.seed);
-           write_figure(results.out, embedding_figure(file, name, fmt::format("{} on {}, last session, seed {}",
+           add_figure(results.files, results.out, embedding_figure(file, name, fmt::format("{} on {}, last session, seed {}",
                                                                               record.method, record.dataset, record.seed)));
            markdown += fmt::format("- figures/{}.svg\n", name);
          }
@@ -210,7 +212,7 @@ const std::vector<Reproduction>& reproductions() {
       {"selection-bias", "Selection bias: what choosing epochs on the test set adds to AA",
        "pits-sc and orco with the last epoch, the best on validation and the best on test (the reference codes' "
        "habit)", "pits-sc,orco", {"selection=last,validation,test-oracle"}, "",
-       [](const Results& results) {
+       [](Results& results) {
          const auto rows = measure_selection_bias(results.table);
          return Rendered{render_selection_bias_markdown(rows), render_selection_bias_csv(rows),
                          render_selection_bias_latex(rows)};
@@ -255,15 +257,17 @@ std::string run_reproduction(const std::string& name, RunOptions options) {
   }
   Results results{options.out, options.dataset, found->grid.empty() ? std::vector<GridAxis>() : parse_grid(found->grid),
                   load_command_records(options.out, found->methods, found->grid), {},
-                  {}};
+                  {}, {}};
   results.table = summarize_runs(results.records);
   results.costs = summarize_costs(results.records);
   const Rendered rendered = found->write(results);
   const fs::path stem = fs::path(options.out) / name;
-  write_file_atomically(fs::path(stem).replace_extension(".md"), rendered.markdown);
-  if (!rendered.csv.empty()) write_file_atomically(fs::path(stem).replace_extension(".csv"), rendered.csv);
-  if (!rendered.latex.empty()) write_file_atomically(fs::path(stem).replace_extension(".tex"), rendered.latex);
-  write_report_page(options.out);
+  FileBatch& files = results.files;
+  files.add(fs::path(stem).replace_extension(".md"), rendered.markdown);
+  if (!rendered.csv.empty()) files.add(fs::path(stem).replace_extension(".csv"), rendered.csv);
+  if (!rendered.latex.empty()) files.add(fs::path(stem).replace_extension(".tex"), rendered.latex);
+  add_report_page(files, options.out);
+  files.replace_all();
   return rendered.markdown + fmt::format("Reproduction {0}: {1}/{0}.md, .csv, .tex; figures in {1}/figures/; open "
                                          "{1}/index.html\n", name, options.out);
 }

@@ -25,6 +25,8 @@ RunOptions rerun_options(const RunRecord& record, const std::string& file, const
   run.evaluate_on = record.evaluated_on;
   run.selection = record.selection;
   run.grid = record.grid;
+  run.rerun_of = file;
+  run.rerun_parameters = record.parameters;
   for (const auto& [key, value] : record.parameters) {
     if (key == "base_training" || key == "selection") continue;  // how the base was obtained; the selection above
     if (key == "split_mode") {

@@ -365,12 +365,25 @@ RunRecord planned_run(const RunOptions& options, const CommandPlan& plan, const 
   return run;
 }
 
+// rerun FILE runs the run the file records, every value from the file.
+void require_every_value_recorded(const RunRecord& planned, const RunOptions& options) {
+  for (const auto& [key, value] : planned.parameters) {
+    if (key != "base_training" && options.rerun_parameters.count(key) == 0) {
+      throw ReportError(fmt::format("{}: field 'parameters.{}' missing, expected every value the run reads (every "
+                                    "result file names them all; one of an older fscil-bench lacks those added "
+                                    "since: rerun it with the binary of its git_commit)", options.rerun_of,
+                                    shown_text(key)));
+    }
+  }
+}
+
 // Step 2: --out may take these runs (they can share its tables), and this command holds it.
 OutFolderLock claim_out_folder(const RunOptions& options, const CommandPlan& plan) {
   std::vector<RunRecord> planned;
   for (std::size_t m = 0; m < plan.method_names.size(); ++m) {
     planned.push_back(planned_run(options, plan, plan.method_names[m], plan.method_params[m], plan.seeds.front()));
   }
+  if (!options.rerun_of.empty()) require_every_value_recorded(planned.front(), options);
   require_room_for(planned, plan.seeds, options);
   std::vector<std::string> cell_runs;  // what a --cell command holds of the folder
   for (const auto& method : plan.method_names) {

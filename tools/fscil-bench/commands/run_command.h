@@ -51,6 +51,11 @@ struct RunOptions {
     std::string key, value, origin;
   };
   std::vector<ReplacedAssignment> replaced_assignments;
+  // rerun FILE: the file and the parameters it records. The runner writes every value a run reads,
+  // so a run that would read one the file lacks is refused: the file was not written by a run, and
+  // a default would stand in for the value it lost.
+  std::string rerun_of;
+  std::map<std::string, std::string> rerun_parameters;
   bool quiet = false;
   // --cell K (tools/fscil-bench/cells/bench_cells.h): this command is cell K of a plan, narrowed to its methods and
   // seed. It holds only that cell of --out, continues what --out holds of it, writes result files

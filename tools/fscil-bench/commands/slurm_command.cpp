@@ -22,9 +22,28 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The #SBATCH options the array script computes from the command (its cells, their threads, their
-// logs): an --sbatch-arg may not set them over (--max-parallel and --threads say what they say).
-constexpr const char* kComputedSbatchOptions[] = {"array", "cpus-per-task", "output", "open-mode"};
+// The #SBATCH options the scripts set themselves, and why: an --sbatch-arg may not set them over
+// (a second line would undo the requeue or the logs, or contradict --time, --mem or --partition).
+// --signal is apart: it may move the SIGTERM, never replace it (sbatch_signal).
+// Seconds before the time limit that a task gets SIGTERM, to keep its checkpoint and stop.
+constexpr int kSignalSeconds = 120;
+
+struct OwnedSbatchOption {
+  const char* name;
+  const char* why;
+};
+constexpr OwnedSbatchOption kOwnedSbatchOptions[] = {
+    {"array", "fscil-bench's to set from the command (the cells, with --max-parallel)"},
+    {"cpus-per-task", "fscil-bench's to set from the command (the cells' threads, with --threads)"},
+    {"output", "fscil-bench's to set (the logs under --out)"},
+    {"error", "fscil-bench's to set (the logs under --out)"},
+    {"open-mode", "fscil-bench's to set (the logs under --out)"},
+    {"requeue", "fscil-bench's to set (a preempted task is requeued and resumes)"},
+    {"no-requeue", "fscil-bench's to set (a preempted task is requeued and resumes)"},
+    {"time", "fscil-bench's to set (give fscil-bench slurm --time)"},
+    {"mem", "fscil-bench's to set (give fscil-bench slurm --mem)"},
+    {"partition", "fscil-bench's to set (give fscil-bench slurm --partition)"},
+};
 
 // Every value that reaches an #SBATCH line, checked as what it is, so neither sbatch nor bash can
 // read it as something else (a newline would be a command, a space splits sbatch's value).
@@ -46,11 +65,16 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
     }
     // sbatch takes any unambiguous prefix of a long option (--arr for --array), so a prefix is refused too.
     const std::string name = argument.substr(2, argument.find('=') - 2);
-    for (const char* computed : kComputedSbatchOptions) {
-      if (!name.empty() && std::string(computed).rfind(name, 0) == 0) {
-        throw CliError(fmt::format("--sbatch-arg {}: --{} is fscil-bench's to set from the command (the cells with "
-                                   "--max-parallel, their threads with --threads, their logs under --out); expected "
-                                   "another sbatch option", shell_command({argument}), computed));
+    if (!name.empty() && std::string("signal").rfind(name, 0) == 0 &&
+        !std::regex_match(argument, std::regex(R"(--signal=B:TERM@\d{1,5})"))) {
+      throw CliError(fmt::format("--sbatch-arg {}: the array's tasks stop on SIGTERM to their script, which keeps the "
+                                 "run's checkpoint; expected --signal=B:TERM@SECONDS to move it (fscil-bench's is "
+                                 "B:TERM@{})", shell_command({argument}), kSignalSeconds));
+    }
+    for (const auto& owned : kOwnedSbatchOptions) {
+      if (!name.empty() && std::string(owned.name).rfind(name, 0) == 0) {
+        throw CliError(fmt::format("--sbatch-arg {}: --{} is {}; expected another sbatch option",
+                                   shell_command({argument}), owned.name, owned.why));
       }
     }
   }
@@ -61,13 +85,27 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
   }
 }
 
+bool is_signal_argument(const std::string& argument) { return argument.rfind("--signal=", 0) == 0; }
+
+// The array's --signal line: SIGTERM to the script kSignalSeconds before the limit, or as long
+// before it as an --sbatch-arg=--signal=B:TERM@SECONDS says (check_slurm_values allows no other).
+std::string sbatch_signal(const SlurmOptions& slurm) {
+  std::string signal = fmt::format("--signal=B:TERM@{}", kSignalSeconds);
+  for (const auto& argument : slurm.sbatch_arguments) {
+    if (is_signal_argument(argument)) signal = argument;
+  }
+  return signal;
+}
+
 // The #SBATCH lines both scripts share.
 std::string common_lines(const SlurmOptions& slurm) {
   std::string lines;
   if (!slurm.partition.empty()) lines += fmt::format("#SBATCH --partition={}\n", slurm.partition);
   if (!slurm.time.empty()) lines += fmt::format("#SBATCH --time={}\n", slurm.time);
   if (!slurm.mem.empty()) lines += fmt::format("#SBATCH --mem={}\n", slurm.mem);
-  for (const auto& argument : slurm.sbatch_arguments) lines += fmt::format("#SBATCH {}\n", argument);
+  for (const auto& argument : slurm.sbatch_arguments) {
+    if (!is_signal_argument(argument)) lines += fmt::format("#SBATCH {}\n", argument);
+  }
   return lines;
 }
 
@@ -81,7 +119,7 @@ std::string array_script(const std::string& command, const std::string& range, i
       "#SBATCH --cpus-per-task={cpus}\n"
       "#SBATCH --output={logs}/cell-%a.log\n"
       "#SBATCH --open-mode=append\n"
-      "#SBATCH --signal=B:TERM@120\n"
+      "#SBATCH {signal}\n"
       "#SBATCH --requeue\n"
       "{time_note}"
       "{common}"
@@ -95,7 +133,7 @@ std::string array_script(const std::string& command, const std::string& range, i
       "while kill -0 \"$child\" 2>/dev/null; do wait \"$child\"; done  # a trap ends a wait early\n"
       "wait \"$child\"  # its exit status, which bash keeps\n",
       fmt::arg("range", range), fmt::arg("cpus", cpus), fmt::arg("logs", logs.string()),
-      fmt::arg("time_note", time_note), fmt::arg("common", common_lines(slurm)),
+      fmt::arg("time_note", time_note), fmt::arg("signal", sbatch_signal(slurm)), fmt::arg("common", common_lines(slurm)),
       fmt::arg("workdir", shell_command({workdir.string()})), fmt::arg("command", command));
 }
 

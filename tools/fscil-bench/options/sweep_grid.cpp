@@ -3,10 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "reports/run_record.h"
 #include "core/error.h"
+#include "core/number_text.h"
 #include "core/shown_text.h"
 
 namespace fscil {
@@ -31,6 +33,7 @@ std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts) {
                                  "of fewer values", shown_text(axis.key), values, kMaxGridCells));
     }
     std::set<std::string> seen;
+    std::map<double, std::string> seen_numbers;  // 16 and 16.0 are one value, so one run twice
     std::size_t start = 0;
     while (true) {
       const auto comma = list.find(',', start);
@@ -41,6 +44,12 @@ std::vector<GridAxis> parse_grid(const std::vector<std::string>& texts) {
       }
       if (!seen.insert(value).second) {
         throw CliError(fmt::format("--grid '{}': value {} given twice", text, value));
+      }
+      if (const auto number = parse_finite_number(value)) {
+        if (const auto [earlier, added] = seen_numbers.emplace(*number, value); !added) {
+          throw CliError(fmt::format("--grid '{}': values {} and {} are one number; give it once", text,
+                                     earlier->second, value));
+        }
       }
       axis.values.push_back(value);
       if (comma == std::string::npos) break;
