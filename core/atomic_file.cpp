@@ -115,16 +115,30 @@ namespace {
 
 fs::path folder_of(const fs::path& path) { return path.has_parent_path() ? path.parent_path() : fs::path("."); }
 
-// Creates `path`'s folder, checks `path` may be replaced and clears the folder of stale temporaries;
-// returns the temporary to write.
-fs::path prepare_temporary(const fs::path& path) {
+// Creates `path`'s folder, checks `path` may be replaced and, with `clean`, clears the folder of
+// stale temporaries; returns the temporary to write.
+fs::path prepare_temporary(const fs::path& path, bool clean = true) {
   const fs::path folder = folder_of(path);
   std::error_code error;
   fs::create_directories(folder, error);
   if (error) throw FileError(fmt::format("{}: cannot create its folder ({})", path.string(), error.message()));
   require_replaceable(path);
-  remove_stale_temporaries(folder);
+  if (clean) remove_stale_temporaries(folder);
   return path.string() + temporary_marker() + std::to_string(::getpid());
+}
+
+// The folders above `path` that do not exist yet, the outermost first; none past one whose state
+// cannot be read (it may exist).
+std::vector<fs::path> missing_folders(const fs::path& path) {
+  std::vector<fs::path> missing;
+  for (fs::path folder = folder_of(path); !folder.empty(); folder = folder.parent_path()) {
+    std::error_code error;
+    const fs::file_status status = fs::symlink_status(folder, error);
+    if (fs::exists(status) || (error && error != std::errc::no_such_file_or_directory)) break;
+    missing.insert(missing.begin(), folder);
+    if (folder == folder.parent_path()) break;
+  }
+  return missing;
 }
 
 void rename_over(const fs::path& temporary, const fs::path& path) {
@@ -153,40 +167,25 @@ void replace_file_atomically(const fs::path& path, const std::function<void(cons
   sync_file(folder_of(path), O_RDONLY | O_DIRECTORY);
 }
 
-void FileBatch::add(const fs::path& path, std::string content) {
-  for (auto& [added, text] : files_) {
-    if (added == path) {
-      text = std::move(content);
-      return;
-    }
-  }
-  files_.emplace_back(path, std::move(content));
-}
+void FileBatch::add(const fs::path& path, std::string content) { files_[path.lexically_normal()] = std::move(content); }
 
 const std::string* FileBatch::find(const fs::path& path) const {
-  const fs::path wanted = path.lexically_normal();
-  for (const auto& [added, text] : files_) {
-    if (added.lexically_normal() == wanted) return &text;
-  }
-  return nullptr;
+  const auto found = files_.find(path.lexically_normal());
+  return found == files_.end() ? nullptr : &found->second;
 }
 
 void FileBatch::replace_all() {
   std::vector<std::pair<fs::path, fs::path>> written;  // temporary, path
   std::vector<fs::path> created_folders;                 // parents before their children
+  std::set<fs::path> folders;                            // cleaned of stale temporaries, synced at the end
   const auto remove_written = [&](std::size_t from) {
     for (std::size_t i = from; i < written.size(); ++i) remove_quietly(written[i].first);
   };
   try {
     for (const auto& [path, content] : files_) {
-      std::vector<fs::path> missing;
-      std::error_code error;
-      for (fs::path folder = folder_of(path); !folder.empty() && !fs::exists(fs::symlink_status(folder, error));
-           folder = folder.parent_path()) {
-        missing.push_back(folder);
-      }
-      created_folders.insert(created_folders.end(), missing.rbegin(), missing.rend());
-      const fs::path temporary = prepare_temporary(path);
+      const std::vector<fs::path> missing = missing_folders(path);
+      created_folders.insert(created_folders.end(), missing.begin(), missing.end());
+      const fs::path temporary = prepare_temporary(path, folders.insert(folder_of(path)).second);
       written.emplace_back(temporary, path);
       write_all(temporary, content);
       sync_file(temporary, O_RDONLY);
@@ -196,7 +195,6 @@ void FileBatch::replace_all() {
     for (auto folder = created_folders.rbegin(); folder != created_folders.rend(); ++folder) remove_quietly(*folder);
     throw;
   }
-  std::set<fs::path> folders;
   for (std::size_t i = 0; i < written.size(); ++i) {
     try {
       rename_over(written[i].first, written[i].second);
@@ -204,7 +202,6 @@ void FileBatch::replace_all() {
       remove_written(i);
       throw;
     }
-    folders.insert(folder_of(written[i].second));
   }
   for (const fs::path& folder : folders) sync_file(folder, O_RDONLY | O_DIRECTORY);
   files_.clear();

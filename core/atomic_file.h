@@ -1,9 +1,8 @@
 #pragma once
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include "core/error.h"
 
@@ -32,20 +31,23 @@ void write_file_atomically(const std::filesystem::path& path, const std::string&
 
 // Files that replace their old versions together (a report's tables, figures and page): every
 // file's temporary is written and synced before any is renamed, so a failure while writing (a
-// full disk, a folder that refuses new files) removes the temporaries and leaves every old file
-// as it was, never a folder of some new tables beside old ones.
+// full disk, a folder that refuses new files) removes the temporaries, and the folders the batch
+// created, and leaves every old file as it was, never a folder of some new tables beside old ones.
+// Only a rename failing part-way (within one folder, after every write succeeded) could leave some
+// files replaced. Paths are kept as lexically_normal(): "out/./a" and "out/a" are one file.
 class FileBatch {
  public:
   // Adds `path` with `content`, or replaces the content added for it before.
   void add(const std::filesystem::path& path, std::string content);
   // The content added for `path`, or nullptr.
   const std::string* find(const std::filesystem::path& path) const;
-  const std::vector<std::pair<std::filesystem::path, std::string>>& files() const { return files_; }
+  // By normal path.
+  const std::map<std::filesystem::path, std::string>& files() const { return files_; }
   // Writes them all as above; the batch is empty afterwards.
   void replace_all();
 
  private:
-  std::vector<std::pair<std::filesystem::path, std::string>> files_;
+  std::map<std::filesystem::path, std::string> files_;
 };
 
 }  // namespace fscil

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <vector>
 #include <system_error>
 
 #include "core/error.h"
@@ -71,14 +72,20 @@ std::string read_text_file(const std::filesystem::path& path, std::uintmax_t at_
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError(fmt::format("{}: cannot open ({})", path.string(), std::strerror(errno)));
-  if (const std::uintmax_t size = std::filesystem::file_size(path, error); !error && size > at_most) {
-    throw FileError(fmt::format("{}: {} bytes, expected {} of at most {} bytes", path.string(), size,
-                                what.empty() ? std::string("a file") : what, at_most));
+  const auto too_large = [&](std::uintmax_t size) {
+    return FileError(fmt::format("{}: {} bytes, expected {} of at most {} bytes", path.string(), size,
+                                 what.empty() ? std::string("a file") : what, at_most));
+  };
+  if (const std::uintmax_t size = std::filesystem::file_size(path, error); !error && size > at_most) throw too_large(size);
+  // Read in chunks and counted, so a file that grows after its size was taken is bounded too.
+  std::string text;
+  std::vector<char> chunk(1 << 16);
+  while (in.read(chunk.data(), static_cast<std::streamsize>(chunk.size())) || in.gcount() > 0) {
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > at_most) throw too_large(text.size());
   }
-  std::stringstream buffer;
-  buffer << in.rdbuf();
   if (in.bad()) throw FileError(fmt::format("{}: cannot read", path.string()));
-  return buffer.str();
+  return text;
 }
 
 }  // namespace fscil

@@ -188,8 +188,9 @@ Folders folder_contents(const PageSource& source) {
   Folders folders;
   if (!to_be_created) add_files_on_disk(folders, root);
   if (source.pending != nullptr) {
-    for (const auto& [path, content] : source.pending->files()) {
-      const fs::path relative = path.lexically_relative(root);
+    const fs::path normal_root = root.lexically_normal();
+    for (const auto& [path, content] : source.pending->files()) {  // by normal path
+      const fs::path relative = path.lexically_relative(normal_root);
       std::error_code on_disk_error;
       if (is_listed(relative) && !fs::exists(path, on_disk_error)) add_shown_file(folders, relative);
     }

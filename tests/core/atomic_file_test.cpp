@@ -100,7 +100,7 @@ TEST(FileBatch, ReplacesEveryFileTogether) {
   FileBatch files;
   files.add(table, "first\n");
   files.add(figure, "<svg/>\n");
-  files.add(table, "new\n");  // the later content wins
+  files.add(directory.path() / "." / "summary.csv", "new\n");  // one file however spelled; the later content wins
   ASSERT_NE(files.find(directory.path() / "." / "summary.csv"), nullptr);
   EXPECT_EQ(*files.find(directory.path() / "." / "summary.csv"), "new\n");
   EXPECT_EQ(files.find(directory.path() / "costs.csv"), nullptr);
@@ -109,6 +109,19 @@ TEST(FileBatch, ReplacesEveryFileTogether) {
   EXPECT_EQ(read_text_file(figure), "<svg/>\n");
   EXPECT_EQ(names_in(directory.path()), (std::vector<std::string>{"figures", "summary.csv"}));
   EXPECT_TRUE(files.files().empty());
+}
+
+TEST(TextFile, AFileLargerThanItsBoundIsRefusedNamingBoth) {
+  TemporaryDirectory directory;
+  const auto file = directory.path() / "run.json";
+  write_file_atomically(file, std::string(100, 'x'));
+  EXPECT_EQ(read_text_file(file, 100, "a result file").size(), 100u);
+  try {
+    read_text_file(file, 99, "a result file");
+    FAIL() << "expected an error";
+  } catch (const FileError& error) {
+    EXPECT_EQ(std::string(error.what()), file.string() + ": 100 bytes, expected a result file of at most 99 bytes");
+  }
 }
 
 // A report whose last figure cannot be written (here a folder in its place; a full disk does the

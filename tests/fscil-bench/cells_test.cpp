@@ -250,9 +250,11 @@ TEST(Cli, SlurmWritesAnArrayTaskPerCellAndAMergeJobAndMissingOnlyKeepsCellsWitho
     expect_one_error_line(overridden, "is fscil-bench's to set");
     EXPECT_EQ(overridden.exit_code, 2) << overridden.output;
   }
-  for (const char* signal : {"--signal=KILL", "--signal=B:USR1@60", "--sig=TERM@60"}) {
+  for (const char* signal : {"--signal=KILL", "--signal=B:USR1@60", "--sig=TERM@60", "--signal=B:TERM@0",
+                             "--signal=B:TERM@65536"}) {
     const CommandResult overridden = run_cli(command + " --sbatch-arg=" + signal);
-    expect_one_error_line(overridden, "expected --signal=B:TERM@SECONDS to move it (fscil-bench's is B:TERM@120)");
+    expect_one_error_line(overridden, "expected --signal=B:TERM@SECONDS, 60 to 65535, to move it (fscil-bench's is "
+                                      "B:TERM@120)");
     EXPECT_EQ(overridden.exit_code, 2) << overridden.output;
   }
   EXPECT_EQ(run_cli(command + " --sbatch-arg=--account=abc --sbatch-arg=--qos=short --sbatch-arg=--job-name=mine "

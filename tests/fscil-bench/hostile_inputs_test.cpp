@@ -371,6 +371,8 @@ const HostileCase kCases[] = {
      kOrcoRun},
     {"analyze_out_the_result_folder_itself", "analyze --results {root}/runs --out {root}/runs/results", 2,
      "runs/results: inside ", kOrcoRun},
+    {"report_out_among_the_result_files_through_a_missing_folder",
+     "report --results {root}/runs --out {root}/missing/../runs/results/x", 2, "runs/results/x: inside ", kOrcoRun},
     {"reference_out_among_the_result_files", "reference --results {root}/runs --out {root}/runs/results/ref.json", 2,
      "runs/results/ref.json: inside ", kOrcoRun},
     // Round seven: the words came back last first ("'prototype --methods'").

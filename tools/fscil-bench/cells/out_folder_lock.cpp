@@ -84,10 +84,11 @@ void refuse_output_among_run_files(const std::string& option, const std::filesys
                                    const std::filesystem::path& results) {
   namespace fs = std::filesystem;
   std::error_code error;
-  const fs::path inside = fs::weakly_canonical(output, error);
+  // Absolute first: weakly_canonical leaves a relative path relative when its first part is missing.
+  const fs::path inside = fs::weakly_canonical(fs::absolute(output), error);
   if (error) return;  // an output that cannot be resolved is refused where it is written
   for (const char* run_folder : {"results", "checkpoints", "cells"}) {
-    const fs::path folder = fs::weakly_canonical(results / run_folder, error);
+    const fs::path folder = fs::weakly_canonical(fs::absolute(results / run_folder), error);
     if (error) continue;
     const fs::path relative = inside.lexically_relative(folder);
     if (!relative.empty() && *relative.begin() != "..") {

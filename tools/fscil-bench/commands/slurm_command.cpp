@@ -22,12 +22,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Seconds before the time limit that a task gets SIGTERM, to keep its checkpoint and stop; an
+// --sbatch-arg=--signal may move it within [kLeastSignalSeconds, sbatch's 65535].
+constexpr int kSignalSeconds = 120;
+constexpr int kLeastSignalSeconds = 60;  // the training step in progress and the checkpoint's write
+
 // The #SBATCH options the scripts set themselves, and why: an --sbatch-arg may not set them over
 // (a second line would undo the requeue or the logs, or contradict --time, --mem or --partition).
 // --signal is apart: it may move the SIGTERM, never replace it (sbatch_signal).
-// Seconds before the time limit that a task gets SIGTERM, to keep its checkpoint and stop.
-constexpr int kSignalSeconds = 120;
-
 struct OwnedSbatchOption {
   const char* name;
   const char* why;
@@ -65,11 +67,16 @@ void check_slurm_values(const SlurmOptions& slurm, const fs::path& logs) {
     }
     // sbatch takes any unambiguous prefix of a long option (--arr for --array), so a prefix is refused too.
     const std::string name = argument.substr(2, argument.find('=') - 2);
-    if (!name.empty() && std::string("signal").rfind(name, 0) == 0 &&
-        !std::regex_match(argument, std::regex(R"(--signal=B:TERM@\d{1,5})"))) {
-      throw CliError(fmt::format("--sbatch-arg {}: the array's tasks stop on SIGTERM to their script, which keeps the "
-                                 "run's checkpoint; expected --signal=B:TERM@SECONDS to move it (fscil-bench's is "
-                                 "B:TERM@{})", shell_command({argument}), kSignalSeconds));
+    if (!name.empty() && std::string("signal").rfind(name, 0) == 0) {
+      std::smatch seconds;
+      const bool moved = std::regex_match(argument, seconds, std::regex(R"(--signal=B:TERM@(\d{1,5}))")) &&
+                         std::stoi(seconds[1]) >= kLeastSignalSeconds && std::stoi(seconds[1]) <= 65535;
+      if (!moved) {
+        throw CliError(fmt::format("--sbatch-arg {}: the array's tasks stop on SIGTERM to their script, which keeps "
+                                   "the run's checkpoint; expected --signal=B:TERM@SECONDS, {} to 65535, to move it "
+                                   "(fscil-bench's is B:TERM@{})", shell_command({argument}), kLeastSignalSeconds,
+                                   kSignalSeconds));
+      }
     }
     for (const auto& owned : kOwnedSbatchOptions) {
       if (!name.empty() && std::string(owned.name).rfind(name, 0) == 0) {
