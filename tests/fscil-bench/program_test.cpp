@@ -103,8 +103,13 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   // A subcommand's missing argument points at that subcommand's help.
   expect_one_error_line(run_cli("report"), "--results is required (try: fscil-bench report --help)");
   expect_one_error_line(run_cli("sweep --grid"), "(try: fscil-bench sweep --help)");
-  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --profile turbo" + common),
-                        "unknown profile 'turbo'");
+  // A named choice's refusal names the option typed, as a usage error (round seven: "unknown profile").
+  const CommandResult turbo = run_cli("--methods prototype --dataset simtex-mini --profile turbo" + common);
+  expect_one_error_line(turbo, "--profile: expected one of smoke, fast, paper");
+  EXPECT_EQ(turbo.exit_code, 2);
+  const CommandResult split = run_cli("--methods prototype --dataset simtex-mini --split-mode X" + common);
+  expect_one_error_line(split, "--split-mode: expected recording or segment");
+  EXPECT_EQ(split.exit_code, 2);
   // A malformed option is a usage error (exit 2) whenever it is found, as CLI11's own are.
   const CommandResult bad_seeds = run_cli("--methods prototype --dataset simtex-mini --seeds 1,x" + common);
   expect_one_error_line(bad_seeds, "--seeds '1,x'");
@@ -120,7 +125,7 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   expect_one_error_line(run_cli("--methods pits-sc --dataset simtex-mini --set lr_gamma=-1" + common),
                         "lr_gamma='-1': expected a number in (0, 1]");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --features disk" + common),
-                        "feature storage 'disk': expected auto, memory or on-demand");
+                        "--features: expected auto, memory or on-demand");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --threads -1" + common),
                         "--threads: expected a number in [0, 256]");
   // Far above any machine's cores: refused before a thread starts, as a usage error.
@@ -130,7 +135,7 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --max-memory 4X" + common),
                         "--max-memory '4X': expected a size such as 4G");
   expect_one_error_line(run_cli("logmel --input a.h5 --output b.h5 --sample-rate nan --n-fft 128 --hop 16 --n-mels 64"),
-                        "--sample-rate: expected a number > 0");
+                        "--sample-rate: expected a number in (0, 10000000]");
   // CLI11's own complaints read like ours: one prefixed line, exit 2.
   const CommandResult unknown_flag = run_cli("--methods prototype --dataset simtex-mini --bogus" + common);
   EXPECT_EQ(unknown_flag.exit_code, 2);

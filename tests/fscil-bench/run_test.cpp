@@ -306,7 +306,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
                                 out.path().string() + "/shifted"),
                         "have no validation recordings in their test contexts");
   expect_one_error_line(run_cli(common + " --evaluate-on train --out " + out.path().string() + "/bad"),
-                        "--evaluate-on 'train': expected test or validation");
+                        "--evaluate-on: expected test or validation");
 }
 
 TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) {

@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "core/error.h"
 #include "core/valid_range.h"
 #include "core/number_text.h"
 
@@ -23,6 +24,23 @@ inline CLI::Validator within(const ValidRange& valid) {
 // A path or text option whose empty value means nothing: `refusal` says what to give instead.
 inline CLI::Validator refusing_empty(const std::string& refusal) {
   return CLI::Validator([refusal](std::string& text) { return text.empty() ? refusal : std::string(); }, "");
+}
+
+// A named choice read by its floor's own reader (`read` throws fscil::Error, "split mode 'X':
+// expected recording or segment"): CLI11 names the option, the reader says what it expected.
+inline CLI::Validator read_by(void (*read)(const std::string&)) {
+  return CLI::Validator(
+      [read](std::string& text) -> std::string {
+        try {
+          read(text);
+        } catch (const Error& error) {
+          const std::string message = error.what();
+          const auto expected = message.find("expected");
+          return expected == std::string::npos ? message : message.substr(expected);
+        }
+        return {};
+      },
+      "");
 }
 
 }  // namespace fscil

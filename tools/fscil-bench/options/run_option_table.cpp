@@ -9,6 +9,9 @@
 #include "core/error.h"
 #include "core/parallel_for.h"
 #include "core/shown_text.h"
+#include "datasets/dataset_catalog.h"
+#include "protocols/profiles.h"
+#include "protocols/session_schedule.h"
 #include "tools/fscil-bench/options/cli_range.h"
 
 namespace fscil {
@@ -22,7 +25,8 @@ const std::vector<RunOption>& run_option_table() {
        "fscil-bench list)",
        &R::methods, W::always, true},
       {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, W::always, true},
-      {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true},
+      {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true, nullptr,
+       [](const std::string& text) { require_profile(text); }},
       {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, W::always, true, {}, true},
       {"--threads", "compute threads (0 = all cores)", &R::threads, W::never, true, ValidRange::between(0, kMaxThreads),
        true},
@@ -31,13 +35,15 @@ const std::vector<RunOption>& run_option_table() {
       {"--features",
        "auto | memory | on-demand: keep log-Mel features in memory, or compute each batch from the signals (auto: in "
        "memory up to 1 GiB)",
-       &R::features, W::always, false, {}, true},
-      {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, W::always, true, {}, true},
+       &R::features, W::always, false, {}, true, nullptr, [](const std::string& text) { parse_feature_storage(text); }},
+      {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, W::always, true, {}, true, nullptr,
+       [](const std::string& text) { parse_split_mode(text); }},
       {"--class-order", "natural | shuffled (from the seed)", &R::class_order, W::always, true, {}, true},
       {"--evaluate-on",
        "test | validation: score every session on the test split, or on the validation split of every class (choose "
        "defaults there, never on test)",
-       &R::evaluate_on, W::always, true, {}, true},
+       &R::evaluate_on, W::always, true, {}, true, nullptr,
+       [](const std::string& text) { parse_evaluation_split(text); }},
       {"--selection",
        "last | validation | test-oracle: which epoch a method keeps where the reference codes choose one (last: the "
        "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
@@ -91,6 +97,7 @@ void declare_run_options(CLI::App& app, RunOptions& options) {
             if (row.range) option->check(within(*row.range));
             if (row.shows_default) option->capture_default_str();
             if (row.if_empty != nullptr) option->check(refusing_empty(row.if_empty));
+            if (row.read_choice != nullptr) option->check(read_by(row.read_choice));
           }
         },
         row.member);
