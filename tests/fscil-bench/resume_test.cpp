@@ -102,6 +102,9 @@ TEST_F(KilledRun, AnEmptyResultsFolderStillResumesAndAMistypedResumePathIsRefuse
   ASSERT_TRUE(std::filesystem::exists(checkpoint()));
   expect_one_error_line(run_cli(std::string(kOptions) + " --resume " + (out.path() / "typo").string()),
                         "typo: no such folder, nothing to resume");
+  // Another --set: the finished run's refusal says what differs (round seven: two hashes).
+  expect_one_error_line(run_cli(std::string(kOptions) + " --set temperature=8 --resume " + out.path().string()),
+                        "prototype__simtex-mini__seed1.json: a result of another run (temperature: 16 there, 8 here)");
   std::filesystem::remove(result("prototype"));  // results/ is now empty, the checkpoint still there
   std::string loud = kOptions;
   loud.erase(loud.find(" --quiet"), 8);

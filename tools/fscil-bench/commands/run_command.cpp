@@ -98,6 +98,40 @@ std::string identity_of(const RunRecord& record) {
                      stable_hash(parameters));
 }
 
+// What makes `earlier` another run than `now` (identity_of's fields), for a refusal that says
+// which option to change: "temperature: 16 there, 8 here; ...".
+std::string differences(const RunRecord& earlier, const RunRecord& now) {
+  std::vector<std::string> found;
+  const auto compare = [&](const std::string& what, const std::string& there, const std::string& here) {
+    if (there != here) found.push_back(fmt::format("{}: {} there, {} here", what, shown_text(there), shown_text(here)));
+  };
+  compare("method", earlier.method, now.method);
+  compare("dataset", earlier.dataset, now.dataset);
+  compare("data", earlier.dataset_key, now.dataset_key);
+  compare("seed", std::to_string(earlier.seed), std::to_string(now.seed));
+  compare("threads", std::to_string(earlier.threads), std::to_string(now.threads));
+  compare("profile", earlier.profile, now.profile);
+  compare("scored on", earlier.evaluated_on, now.evaluated_on);
+  compare("selection", earlier.selection, now.selection);
+  compare("grid cell", grid_cell_name(earlier.grid), grid_cell_name(now.grid));
+  std::set<std::string> keys;
+  for (const auto* parameters : {&earlier.parameters, &now.parameters}) {
+    for (const auto& [key, value] : *parameters) {
+      if (key != "base_training") keys.insert(key);
+    }
+  }
+  const auto value_in = [](const std::map<std::string, std::string>& parameters, const std::string& key) {
+    const auto found_value = parameters.find(key);
+    return found_value == parameters.end() ? std::string("(not set)") : found_value->second;
+  };
+  for (const auto& key : keys) compare(key, value_in(earlier.parameters, key), value_in(now.parameters, key));
+  if (found.empty()) return identity_of(earlier);  // identity_of reads no other field; kept safe all the same
+  constexpr std::size_t kShown = 5;
+  const std::size_t more = found.size() > kShown ? found.size() - kShown : 0;
+  found.resize(std::min(found.size(), kShown));
+  return fmt::format("{}{}", fmt::join(found, "; "), more > 0 ? fmt::format("; and {} more", more) : "");
+}
+
 fs::path checkpoint_path(const fs::path& out, const std::string& method, const std::string& dataset,
                          std::uint64_t seed) {
   RunRecord name;
@@ -713,7 +747,7 @@ void run_one(const RunOptions& options, const CommandPlan& plan, CommandRuns& ru
     if (identity_of(*done) != run.identity) {
       throw ProtocolError(fmt::format("{}/results/{}: a result of another run ({}); resume with the command that "
                                       "made it, or use another --out", options.out, run_record_file_name(*done),
-                                      identity_of(*done)));
+                                      differences(*done, run.record)));
     }
     progress.note("finished before the interruption: result kept");
     runs.records.push_back(*done);
