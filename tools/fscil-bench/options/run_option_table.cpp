@@ -10,7 +10,6 @@
 #include "core/parallel_for.h"
 #include "core/shown_text.h"
 #include "datasets/dataset_catalog.h"
-#include "protocols/profiles.h"
 #include "protocols/session_schedule.h"
 #include "tools/fscil-bench/options/cli_range.h"
 
@@ -25,8 +24,7 @@ const std::vector<RunOption>& run_option_table() {
        "fscil-bench list)",
        &R::methods, W::always, true},
       {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, W::always, true},
-      {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true, nullptr,
-       [](const std::string& text) { require_profile(text); }},
+      {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true},
       {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, W::always, true, {}, true},
       {"--threads", "compute threads (0 = all cores)", &R::threads, W::never, true, ValidRange::between(0, kMaxThreads),
        true},
