@@ -244,7 +244,7 @@ const HostileCase kCases[] = {
                               "orco,simtex-mini,smoke,1,1,k,acc_0,10,2\n")},
     // The one writer replaces regular files only, and never a file the command reads.
     {"reference_out_onto_the_result_it_reads",
-     "reference --results {root}/runs --out {root}/runs/results/orco.json", 1, "orco.json: is an input, which this command reads",
+     "reference --results {root}/runs --out {root}/runs/results/orco.json", 2, "runs/results/orco.json: inside ",
      kOrcoRun},
     {"reference_out_onto_a_link", "reference --results {root}/runs --out {root}/out/link.csv", 1,
      "link.csv: is a symbolic link; fscil-bench writes only regular files",
