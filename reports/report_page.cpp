@@ -144,12 +144,17 @@ void add_shown_file(Folders& folders, const fs::path& relative) {
   }
 }
 
-// A pending file the listing below would show: inside the root, in no hidden, results or checkpoints folder.
+// A folder the page leaves out: a run's own (results/ is counted, not listed; checkpoints/) or hidden.
+bool is_left_out_folder(const std::string& name) {
+  return name == "checkpoints" || name == "results" || name.front() == '.';
+}
+
+// A pending file the listing below would show: inside the root, in no folder the page leaves out.
 bool is_listed(const fs::path& relative) {
   if (relative.empty() || relative.is_absolute()) return false;
   for (const fs::path& part : relative) {
     const std::string name = part.string();
-    if (name.empty() || name == ".." || name.front() == '.' || name == "results" || name == "checkpoints") return false;
+    if (name.empty() || name == ".." || is_left_out_folder(name)) return false;
   }
   return true;
 }
@@ -163,7 +168,7 @@ void add_files_on_disk(Folders& folders, const fs::path& root) {
     const fs::path parent = relative.parent_path();
     std::error_code kind_error;
     const bool directory = it->is_directory(kind_error);
-    if (directory && (name == "checkpoints" || name == "results" || name.front() == '.')) {
+    if (directory && is_left_out_folder(name)) {
       it.disable_recursion_pending();
       if (name == "results") {
         FolderContents& contents = folders[parent.generic_string()];

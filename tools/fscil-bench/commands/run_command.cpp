@@ -88,10 +88,16 @@ void reject_unread_keys(const ParameterSet& params, const std::vector<const Para
   }
 }
 
+// A run's parameters that name it: all but base_training, how the base was obtained, not what it is.
+std::map<std::string, std::string> identity_parameters(const RunRecord& record) {
+  std::map<std::string, std::string> parameters = record.parameters;
+  parameters.erase("base_training");
+  return parameters;
+}
+
 // Everything that shapes a run's numbers; a checkpoint or result file of another run is refused.
 std::string identity_of(const RunRecord& record) {
-  std::map<std::string, std::string> parameters = record.parameters;
-  parameters.erase("base_training");  // how the base was obtained, not what it is
+  const std::map<std::string, std::string> parameters = identity_parameters(record);
   return fmt::format("method={} dataset={} data={} seed={} threads={} profile={} scored={} selection={} cell={} "
                      "parameters={}", record.method, record.dataset, record.dataset_key, record.seed, record.threads,
                      record.profile, record.evaluated_on, record.selection, grid_cell_name(record.grid),
@@ -114,17 +120,16 @@ std::string differences(const RunRecord& earlier, const RunRecord& now) {
   compare("scored on", earlier.evaluated_on, now.evaluated_on);
   compare("selection", earlier.selection, now.selection);
   compare("grid cell", grid_cell_name(earlier.grid), grid_cell_name(now.grid));
+  const auto there = identity_parameters(earlier), here = identity_parameters(now);
   std::set<std::string> keys;
-  for (const auto* parameters : {&earlier.parameters, &now.parameters}) {
-    for (const auto& [key, value] : *parameters) {
-      if (key != "base_training") keys.insert(key);
-    }
+  for (const auto* parameters : {&there, &here}) {
+    for (const auto& [key, value] : *parameters) keys.insert(key);
   }
   const auto value_in = [](const std::map<std::string, std::string>& parameters, const std::string& key) {
     const auto found_value = parameters.find(key);
     return found_value == parameters.end() ? std::string("(not set)") : found_value->second;
   };
-  for (const auto& key : keys) compare(key, value_in(earlier.parameters, key), value_in(now.parameters, key));
+  for (const auto& key : keys) compare(key, value_in(there, key), value_in(here, key));
   if (found.empty()) return identity_of(earlier);  // identity_of reads no other field; kept safe all the same
   constexpr std::size_t kShown = 5;
   const std::size_t more = found.size() > kShown ? found.size() - kShown : 0;
@@ -401,8 +406,8 @@ RunRecord planned_run(const RunOptions& options, const CommandPlan& plan, const 
 
 // rerun FILE runs the run the file records, every value from the file.
 void require_every_value_recorded(const RunRecord& planned, const RunOptions& options) {
-  for (const auto& [key, value] : planned.parameters) {
-    if (key != "base_training" && options.rerun_parameters.count(key) == 0) {
+  for (const auto& [key, value] : identity_parameters(planned)) {
+    if (options.rerun_parameters.count(key) == 0) {
       throw ReportError(fmt::format("{}: field 'parameters.{}' missing, expected every value the run reads (every "
                                     "result file names them all; one of an older fscil-bench lacks those added "
                                     "since: rerun it with the binary of its git_commit)", options.rerun_of,
