@@ -8,6 +8,7 @@
 #include "core/parameter_set.h"
 #include "core/error.h"
 #include "core/seeded_shuffle.h"
+#include "core/shown_text.h"
 
 namespace fscil {
 
@@ -99,12 +100,22 @@ SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaul
   }
   std::vector<int> order(dataset_classes);
   std::iota(order.begin(), order.end(), 0);
-  if (params.choice("class_order", "natural", {"natural", "shuffled"}) == "shuffled") {
+  if (params.choice("class_order", "natural", class_orders()) == "shuffled") {
     seeded_shuffle(order, seed, SeedPurpose::class_order);
   }
   order.resize(plan.total_classes());
   plan.class_order = order;
   return plan;
+}
+
+const std::vector<std::string>& class_orders() {
+  static const std::vector<std::string> names = {"natural", "shuffled"};
+  return names;
+}
+
+void require_class_order(const std::string& name) {
+  if (std::find(class_orders().begin(), class_orders().end(), name) != class_orders().end()) return;
+  throw ProtocolError(fmt::format("class order '{}': expected {}", shown_text(name), fmt::join(class_orders(), " or ")));
 }
 
 }  // namespace fscil

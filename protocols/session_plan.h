@@ -57,5 +57,9 @@ std::string describe_removal(const SessionPlan& plan);
 // published protocol. Throws ProtocolError when impossible.
 SessionPlan make_session_plan(int dataset_classes, const SessionDefaults& defaults,
                               const ParameterSet& params, std::uint64_t seed);
+// The class orders a plan takes: natural, shuffled (from the seed).
+const std::vector<std::string>& class_orders();
+// ProtocolError "class order 'X': expected natural or shuffled" unless `name` is one of them.
+void require_class_order(const std::string& name);
 
 }  // namespace fscil

@@ -59,6 +59,8 @@ bool is_selection_name(const std::string& name) {
   return name == "last" || name == "validation" || name == "test-oracle";
 }
 
+bool is_precision_name(const std::string& name) { return name == "fp32" || name == "bf16"; }
+
 bool selected_on_test(const RunRecord& record) { return record.selection == "test-oracle"; }
 
 std::int64_t run_peak_bytes(const RunRecord& record) {
@@ -203,7 +205,7 @@ void check_as_a_whole(const RunRecord& record, const std::string& origin) {
     }
   }
   // What the runner writes (methods/common/precision.h, protocols/session_plan.cpp's removal).
-  if (const std::string precision = precision_of(record); precision != "fp32" && precision != "bf16") {
+  if (const std::string precision = precision_of(record); !is_precision_name(precision)) {
     throw ReportError(fmt::format("{}: field 'protocol_parameters.precision': '{}', expected fp32 or bf16", origin,
                                   shown_text(precision)));
   }

@@ -94,8 +94,10 @@ std::int64_t run_peak_bytes(const RunRecord& record);
 std::string precision_of(const RunRecord& record);
 // Its protocol_parameters' removal (session_plan.h): "none" for add-only runs and files from before it.
 std::string removal_of(const RunRecord& record);
-// The selections a result file may name, and whether one was chosen on the test split.
+// The selections and precisions a result file may name (--selection, --precision), and whether a
+// run was selected on the test split.
 bool is_selection_name(const std::string& name);
+bool is_precision_name(const std::string& name);
 bool selected_on_test(const RunRecord& record);
 // A sweep key or value: letters, digits, '_', '.' and '-' only (it names folders and fills CSV fields).
 bool is_grid_text(const std::string& text);

@@ -232,8 +232,8 @@ const HostileCase kCases[] = {
     // Every cell checked before the first one trains or is listed.
     {"sweep_with_a_bad_value_in_its_last_cell", "sweep --methods prototype --dataset simtex-mini --profile smoke --quiet "
      "--no-cache --threads 1 --grid shot=1,nan --out {root}/sweep", 1, "parameter shot='nan': expected an integer"},
-    {"plan_listing_an_unknown_dataset", "plan --no-estimate --methods prototype --dataset nonsense", 1,
-     "unknown dataset 'nonsense'"},
+    {"plan_listing_an_unknown_dataset", "plan --no-estimate --methods prototype --dataset nonsense", 2,
+     "--dataset 'nonsense': expected one of"},
     // A reference file's typo is the file's fault, not the results' drift.
     {"reference_with_an_unknown_metric", "check --results {root}/runs --reference {root}/ref.csv", 1,
      "ref.csv:2: metric 'bogus', expected acc_0, acc_1, ... (a session's accuracy), AA, PD or ADR",
@@ -272,7 +272,7 @@ const HostileCase kCases[] = {
     {"cache_dir_with_no_cache", kRun + "--no-cache", 2, "--cache-dir and --no-cache: --no-cache reads and writes no cache"},
     {"data_root_of_a_simulated_dataset", kRun + "--data-root {root}/out", 1,
      "dataset 'simtex-mini' is simulated and reads no data folder"},
-    {"embeddings_of_one_session_twice", kRun + "--save-embeddings 0,0", 1, "--save-embeddings 0,0: session 0 given twice"},
+    {"embeddings_of_one_session_twice", kRun + "--save-embeddings 0,0", 2, "--save-embeddings 0,0: session 0 given twice"},
     {"data_root_a_file", "--methods prototype --dataset haptex --profile smoke --quiet --no-cache --out {root}/out "
      "--data-root {root}/out/notes.txt", 1, "notes.txt: a file, not a folder (expected a folder laid out as"},
     {"selection_fixed_and_swept",
@@ -335,10 +335,10 @@ const HostileCase kCases[] = {
     {"split_mode_by_option_and_grid", "plan " + kRun + "--split-mode segment --grid split_mode=segment,recording", 2,
      "--split-mode segment and --grid split_mode=segment,recording: a parameter is either fixed or swept"},
     {"methods_with_a_trailing_comma",
-     "--methods prototype, --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out {root}/out", 1,
+     "--methods prototype, --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out {root}/out", 2,
      "--methods prototype,: an empty name after the last comma"},
     {"methods_all_beside_a_method",
-     "--methods all,prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out {root}/out", 1,
+     "--methods all,prototype --dataset simtex-mini --profile smoke --threads 1 --quiet --no-cache --out {root}/out", 2,
      "--methods all,prototype: 'all' stands alone"},
     {"save_embeddings_empty", kNoCacheRun + "--save-embeddings ''", 2,
      "--save-embeddings: expected last, all or session numbers (0,9); leave the option out to save none"},
@@ -355,7 +355,7 @@ const HostileCase kCases[] = {
      "expected each epoch of stage 'pretrain' once, found epoch 1 again",
      {"runs/.lock", "runs/results/x.json=@tests/fuzz/corpus/run_record/training_log_epoch_twice.json"}},
     {"reproduce_list_with_a_name", "reproduce bogus --list", 2, "reproduce bogus --list: give a NAME or --list, not both"},
-    {"reproduce_list_with_run_options", "reproduce --list --dataset bogus --seeds 3-1", 2,
+    {"reproduce_list_with_run_options", "reproduce --list --dataset simtex --seeds 3-1", 2,
      "reproduce --list: --dataset is read only when a reproduction runs"},
     // Round seven: a report that fails part-way (a full disk, a folder in a file's place) once left
     // new tables beside old figures and an old page; its files replace the old ones together.

@@ -96,19 +96,32 @@ TEST(Cli, VersionNamesTheKernelsTheLibrariesChose) {
 TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   TemporaryDirectory out;
   const std::string common = " --quiet --no-cache --out " + out.path().string();
-  expect_one_error_line(run_cli("--methods nosuch --dataset simtex-mini" + common), "unknown method 'nosuch'");
+  // A named choice's refusal names the option typed and the value, as a usage error (exit 2, as
+  // --seeds and --threads; round seven: "unknown profile 'X'", "parameter class_order='Natural'",
+  // exit 1).
+  const CommandResult no_such_method = run_cli("--methods nosuch --dataset simtex-mini" + common);
+  expect_one_error_line(no_such_method, "--methods: unknown method 'nosuch'");
+  EXPECT_EQ(no_such_method.exit_code, 2);
   const CommandResult no_such_data = run_cli("--methods prototype --dataset nosuch --no-cache --out " + out.path().string());
-  expect_one_error_line(no_such_data, "unknown dataset 'nosuch'");
+  expect_one_error_line(no_such_data, "--dataset 'nosuch': expected one of simtex,");
+  EXPECT_EQ(no_such_data.exit_code, 2);
   EXPECT_EQ(no_such_data.output.find("preparing dataset"), std::string::npos) << "no progress before the refusal";
+  const std::pair<std::string, std::string> refused_choices[] = {
+      {"--profile turbo", "--profile: unknown profile 'turbo': expected one of smoke, fast, paper"},
+      {"--split-mode X", "--split-mode 'X': expected recording or segment"},
+      {"--class-order Natural", "--class-order 'Natural': expected natural or shuffled"},
+      {"--selection best", "--selection 'best': expected last, validation or test-oracle"},
+      {"--precision fp16", "--precision 'fp16': expected fp32 or bf16"},
+      {"--save-embeddings x", "--save-embeddings x: expected last, all or session numbers from 0"},
+      {"--cell 2147483648", "--cell '2147483648': expected a whole number no larger than 2147483647"}};
+  for (const auto& [option, refusal] : refused_choices) {
+    const CommandResult refused = run_cli("--methods prototype --dataset simtex-mini " + option + common);
+    expect_one_error_line(refused, refusal);
+    EXPECT_EQ(refused.exit_code, 2) << option;
+  }
   // A subcommand's missing argument points at that subcommand's help.
   expect_one_error_line(run_cli("report"), "--results is required (try: fscil-bench report --help)");
   expect_one_error_line(run_cli("sweep --grid"), "(try: fscil-bench sweep --help)");
-  expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --profile turbo" + common),
-                        "unknown profile 'turbo'");
-  // A named choice's refusal names the option typed, as a usage error (round seven: "split mode 'X'").
-  const CommandResult split = run_cli("--methods prototype --dataset simtex-mini --split-mode X" + common);
-  expect_one_error_line(split, "--split-mode: expected recording or segment");
-  EXPECT_EQ(split.exit_code, 2);
   // A malformed option is a usage error (exit 2) whenever it is found, as CLI11's own are.
   const CommandResult bad_seeds = run_cli("--methods prototype --dataset simtex-mini --seeds 1,x" + common);
   expect_one_error_line(bad_seeds, "--seeds '1,x'");
@@ -124,7 +137,7 @@ TEST(Cli, UnknownNamesAndGarbageGetOneClearLine) {
   expect_one_error_line(run_cli("--methods pits-sc --dataset simtex-mini --set lr_gamma=-1" + common),
                         "lr_gamma='-1': expected a number in (0, 1]");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --features disk" + common),
-                        "--features: expected auto, memory or on-demand");
+                        "--features 'disk': expected auto, memory or on-demand");
   expect_one_error_line(run_cli("--methods prototype --dataset simtex-mini --threads -1" + common),
                         "--threads: expected a number in [0, 256]");
   // Far above any machine's cores: refused before a thread starts, as a usage error.

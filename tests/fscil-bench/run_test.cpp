@@ -306,7 +306,7 @@ TEST(Cli, EvaluateOnValidationScoresEveryClassesValidationSplitAndSaysSoEverywhe
                                 out.path().string() + "/shifted"),
                         "have no validation recordings in their test contexts");
   expect_one_error_line(run_cli(common + " --evaluate-on train --out " + out.path().string() + "/bad"),
-                        "--evaluate-on: expected test or validation");
+                        "--evaluate-on 'train': expected test or validation");
 }
 
 TEST(Cli, TheSameSeedAndThreadsReproduceAccuraciesExactlyAndAnotherSeedDoesNot) {
@@ -360,7 +360,7 @@ TEST(Cli, Bf16IsARunOfItsOwnInEveryFileAndTable) {
   const std::string common = " --methods prototype --dataset simtex-mini --profile smoke --quiet --no-cache --threads 1";
   const auto result = [](const TemporaryDirectory& out) { return out.path() / "results" / "prototype__simtex-mini__seed1.json"; };
   expect_one_error_line(run_cli("--precision fp16" + common + " --out " + bf16.path().string()),
-                        "--precision fp16: expected fp32 or bf16");
+                        "--precision 'fp16': expected fp32 or bf16");
   ASSERT_EQ(run_cli("--precision bf16" + common + " --out " + bf16.path().string()).exit_code, 0);
   ASSERT_EQ(run_cli(common + " --out " + fp32.path().string()).exit_code, 0);
   EXPECT_NE(scores_in(result(bf16)), scores_in(result(fp32)));

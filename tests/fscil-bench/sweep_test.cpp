@@ -109,7 +109,7 @@ TEST(Cli, EpochsChosenOnTestAreLabelledInflatedAndNeverShareAnOutWithHonestRuns)
   EXPECT_NE(log[0].find("selection_score"), std::string::npos) << log[0];
   EXPECT_EQ(log[1].rfind("0,pretrain,1,", 0), 0u) << log[1];
   expect_one_error_line(run_cli(common.substr(1)), "selection=test-oracle");
-  expect_one_error_line(run_cli("--selection best" + common), "--selection best");
+  expect_one_error_line(run_cli("--selection best" + common), "--selection 'best'");
 }
 
 TEST(Cli, ReproduceListsThePapersTablesAndWritesOneInItsLayoutWithItsFigures) {

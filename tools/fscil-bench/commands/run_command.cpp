@@ -200,12 +200,12 @@ std::function<bool(int)> sessions_to_save(const std::string& text, int sessions)
     const std::string field = text.substr(start, comma - start);
     const auto session = parse_number<int>(field);
     if (!session || *session < 0 || (sessions > 0 && *session >= sessions)) {
-      throw ProtocolError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0{}, "
+      throw CliError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0{}, "
                                       "comma-separated", text,
                                       sessions > 0 ? fmt::format(" to {}", sessions - 1) : std::string()));
     }
     if (!chosen.insert(*session).second) {
-      throw ProtocolError(fmt::format("--save-embeddings {}: session {} given twice; name each session once", text,
+      throw CliError(fmt::format("--save-embeddings {}: session {} given twice; name each session once", text,
                                       *session));
     }
     start = comma + 1;

@@ -1,11 +1,13 @@
 #pragma once
 #include <CLI/CLI.hpp>
+#include <fmt/format.h>
 
 #include <string>
 
 #include "core/error.h"
 #include "core/valid_range.h"
 #include "core/number_text.h"
+#include "core/shown_text.h"
 
 namespace fscil {
 
@@ -27,7 +29,8 @@ inline CLI::Validator refusing_empty(const std::string& refusal) {
 }
 
 // A named choice read by its floor's own reader (`read` throws fscil::Error, "split mode 'X':
-// expected recording or segment"): CLI11 names the option, the reader says what it expected.
+// expected recording or segment"): the refusal is the value typed and what the reader expected
+// ("'X': expected recording or segment"), which the command line puts after the option's name.
 inline CLI::Validator read_by(void (*read)(const std::string&)) {
   return CLI::Validator(
       [read](std::string& text) -> std::string {
@@ -36,7 +39,8 @@ inline CLI::Validator read_by(void (*read)(const std::string&)) {
         } catch (const Error& error) {
           const std::string message = error.what();
           const auto expected = message.find("expected");
-          return expected == std::string::npos ? message : message.substr(expected);
+          return fmt::format("'{}': {}", shown_text(text),
+                             expected == std::string::npos ? message : message.substr(expected));
         }
         return {};
       },

@@ -10,7 +10,9 @@
 #include "core/parallel_for.h"
 #include "core/shown_text.h"
 #include "datasets/dataset_catalog.h"
+#include "protocols/session_plan.h"
 #include "protocols/session_schedule.h"
+#include "reports/run_record.h"
 #include "tools/fscil-bench/options/cli_range.h"
 
 namespace fscil {
@@ -23,7 +25,8 @@ const std::vector<RunOption>& run_option_table() {
        "'all', 'ablation' (pits-sc and the four cop-fscil variants) or a comma-separated list of methods (see: "
        "fscil-bench list)",
        &R::methods, W::always, true},
-      {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, W::always, true},
+      {"--dataset", "dataset name (see: fscil-bench list)", &R::dataset, W::always, true, {}, false, nullptr,
+       require_dataset_name},
       {"--profile", "smoke | fast | paper", &R::profile, W::always, true, {}, true},
       {"--seeds", "seeds, e.g. 1,2,3 or 1-5", &R::seeds, W::always, true, {}, true},
       {"--threads", "compute threads (0 = all cores)", &R::threads, W::never, true, ValidRange::between(0, kMaxThreads),
@@ -36,7 +39,8 @@ const std::vector<RunOption>& run_option_table() {
        &R::features, W::always, false, {}, true, nullptr, [](const std::string& text) { parse_feature_storage(text); }},
       {"--split-mode", "recording (grouped, default) | segment", &R::split_mode, W::always, true, {}, true, nullptr,
        [](const std::string& text) { parse_split_mode(text); }},
-      {"--class-order", "natural | shuffled (from the seed)", &R::class_order, W::always, true, {}, true},
+      {"--class-order", "natural | shuffled (from the seed)", &R::class_order, W::always, true, {}, true, nullptr,
+       require_class_order},
       {"--evaluate-on",
        "test | validation: score every session on the test split, or on the validation split of every class (choose "
        "defaults there, never on test)",
@@ -46,7 +50,10 @@ const std::vector<RunOption>& run_option_table() {
        "last | validation | test-oracle: which epoch a method keeps where the reference codes choose one (last: the "
        "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
        "reference codes do: inflated, labelled so in every table)",
-       &R::selection, W::always, true, {}, true},
+       &R::selection, W::always, true, {}, true, nullptr,
+       [](const std::string& text) {
+         if (!is_selection_name(text)) throw ReportError("expected last, validation or test-oracle");
+       }},
       {"--data-root", "root folder of a real dataset download", &R::data_root, W::when_given, false, {}, false,
        "expected a folder"},
       {"--cache-dir", "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)",
@@ -72,7 +79,10 @@ const std::vector<RunOption>& run_option_table() {
       {"--precision",
        "fp32 | bf16: what the shared encoder computes in; bf16 runs its convolutions in bfloat16 (faster only on a "
        "CPU with AVX512-BF16 or AMX: fscil-bench plan says), other numbers than fp32, never in one table with fp32 runs",
-       &R::precision, W::always, true, {}, true},
+       &R::precision, W::always, true, {}, true, nullptr,
+       [](const std::string& text) {
+         if (!is_precision_name(text)) throw ReportError("expected fp32 or bf16");
+       }},
       {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, W::when_given, true},
       {"--quiet", "no progress on stderr", &R::quiet},
       {"--cell",

@@ -34,7 +34,7 @@ struct RunOption {
   std::optional<ValidRange> range = std::nullopt;  // a number's accepted values
   bool shows_default = false;       // --help shows the default
   const char* if_empty = nullptr;   // the refusal of an empty value, where one means nothing
-  // The floor's own reader of a named choice (split mode, profile, ...), run as the option is
+  // The floor's own reader of a named choice (split mode, dataset, ...), run as the option is
   // parsed, so that its refusal names the option the user typed.
   void (*read_choice)(const std::string&) = nullptr;
 };
