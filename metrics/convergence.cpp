@@ -22,6 +22,7 @@ StageConvergence judge(const std::string& stage, const std::vector<double>& accu
   judged.epochs = static_cast<int>(accuracy.size());
   judged.first = accuracy.front();
   judged.last = accuracy.back();
+  judged.best = *std::max_element(accuracy.begin(), accuracy.end());
   if (!loss.empty()) judged.loss = loss.front();
   if (loss_never_moved(loss)) {
     judged.verdict = TrainingVerdict::not_learning;
@@ -63,7 +64,8 @@ std::vector<StageConvergence> judge_stages(const std::vector<EpochLog>& log) {
 bool stage_has_levelled_off(const std::vector<EpochLog>& log, const std::string& stage) {
   for (const StageConvergence& judged : judge_stages(log)) {
     if (judged.stage == stage) {
-      return judged.verdict == TrainingVerdict::converged && judged.rise > -kStillRisingPoints;
+      return judged.verdict == TrainingVerdict::converged && judged.rise > -kStillRisingPoints &&
+             judged.best - judged.last < kStillRisingPoints;
     }
   }
   return false;

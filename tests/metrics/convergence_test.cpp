@@ -77,6 +77,11 @@ TEST(Convergence, AStageLevelsOffOnAPlateauNotInADip) {
   EXPECT_TRUE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 89.5}), "base"));
   EXPECT_TRUE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 90.9}), "base"));
   EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 91}), "base"));  // rising
+  // Converged, but the epoch a stop keeps is a point or more below the best: a dip, not the plateau.
+  EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 89.5, 90.5, 89.5}), "base"));
+  EXPECT_TRUE(stage_has_levelled_off(scored("base", {50, 80, 90, 89.5, 90.5, 89.6}), "base"));
+  // PITS-SC's pretraining, simtex seed 1 (fairness table): stopped here, at 75.1% after 78.2%.
+  EXPECT_FALSE(stage_has_levelled_off(scored("pretrain", {14.9, 70.5, 70.9, 78.2, 73.1, 78.1, 75.1}), "pretrain"));
   EXPECT_FALSE(stage_has_levelled_off(scored("base", {50, 80, 90, 88, 89, 89.5}), "pretrain"));  // no such stage
 }
 
