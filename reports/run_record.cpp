@@ -61,6 +61,16 @@ bool is_selection_name(const std::string& name) {
 
 bool is_precision_name(const std::string& name) { return name == "fp32" || name == "bf16"; }
 
+void require_selection_name(const std::string& name) {
+  if (!is_selection_name(name)) {
+    throw ReportError(fmt::format("selection '{}': expected last, validation or test-oracle", shown_text(name)));
+  }
+}
+
+void require_precision_name(const std::string& name) {
+  if (!is_precision_name(name)) throw ReportError(fmt::format("precision '{}': expected fp32 or bf16", shown_text(name)));
+}
+
 bool selected_on_test(const RunRecord& record) { return record.selection == "test-oracle"; }
 
 std::int64_t run_peak_bytes(const RunRecord& record) {

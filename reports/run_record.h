@@ -94,10 +94,13 @@ std::int64_t run_peak_bytes(const RunRecord& record);
 std::string precision_of(const RunRecord& record);
 // Its protocol_parameters' removal (session_plan.h): "none" for add-only runs and files from before it.
 std::string removal_of(const RunRecord& record);
-// The selections and precisions a result file may name (--selection, --precision), and whether a
+// The selections and precisions a result file may name (--selection, --precision); the require_
+// forms throw ReportError "selection 'x': expected last, validation or test-oracle". And whether a
 // run was selected on the test split.
 bool is_selection_name(const std::string& name);
 bool is_precision_name(const std::string& name);
+void require_selection_name(const std::string& name);
+void require_precision_name(const std::string& name);
 bool selected_on_test(const RunRecord& record);
 // A sweep key or value: letters, digits, '_', '.' and '-' only (it names folders and fills CSV fields).
 bool is_grid_text(const std::string& text);

@@ -45,6 +45,12 @@ TEST(Cli, ConfigFileSetsRunOptionsAndTheCommandLineOverridesIt) {
   std::ofstream(nonsense) << R"({"methods": "prototype", "dataset": "simtex-mini", "threads": "many"})";
   expect_one_error_line(run_cli("plan --config " + nonsense.string() + " --threads 1 --no-estimate"),
                         "--config " + nonsense.string() + ": \"threads\"");
+  // A named choice the file gets wrong is the file's, the registry's choices (--methods) included.
+  const auto unknown = folder.path() / "unknown.json";
+  std::ofstream(unknown) << R"({"methods": "nosuch", "dataset": "simtex-mini"})";
+  const CommandResult unknown_method = run_cli("plan --config " + unknown.string() + " --no-estimate");
+  EXPECT_EQ(unknown_method.exit_code, 2) << unknown_method.output;
+  expect_one_error_line(unknown_method, "--config " + unknown.string() + ": \"methods\" 'nosuch': expected all,");
   // A folder is not a file: one line from the one file reader, a bad input (exit 1), not an abort.
   const CommandResult folder_given = run_cli("--config " + folder.path().string());
   EXPECT_EQ(folder_given.exit_code, 1) << folder_given.output;

@@ -62,7 +62,7 @@ TEST(Cli, SweepRunsEveryCellApartAndTablesThemWithAColumnPerKey) {
                         "--set shot=3 and --grid shot");
   expect_one_error_line(run_cli("sweep --grid shot=3,,5" + common + " --out " + out.path().string()), "--grid");
   expect_one_error_line(run_cli("sweep --grid selection=last,best" + common + " --out " + out.path().string()),
-                        "--selection best");
+                        "--grid selection 'best': expected last, validation or test-oracle");
 }
 
 // Issue 70: the grid's order is the order of every table, folder and legend, and a legend that

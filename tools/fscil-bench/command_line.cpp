@@ -9,9 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <iostream>
-#include <limits>
 #include <memory>
 #include <regex>
 #include <string_view>
@@ -72,7 +70,9 @@ std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
   static const std::regex unexpected(R"(^The following arguments? (?:was|were) not expected: (.*)$)");
   static const std::regex missing(R"(^(\S+): \d+ required \S+ missing$)");
   static const std::regex repeated(R"(^(\S+): At Most 1 required but received (\d+)$)");
-  static const std::regex refused_value(R"(^(--\S+): ('.*': expected .*)$)");  // cli_range.h's read_by
+  // cli_range.h's read_by: "--x: 'v': expected ..." and "--x: --x v: ..." in the shape of ours.
+  static const std::regex refused_value(R"(^(--\S+): ('.*': expected .*)$)");
+  static const std::regex named_twice(R"(^(--\S+): (--\S+ .*)$)");
   std::smatch match;
   if (std::regex_match(text, match, convert)) {
     const CLI::Option* option = option_named(app, match[1]);
@@ -81,9 +81,8 @@ std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
     static const std::regex digits(R"(^[+-]?[0-9]+$)");
     if (whole && std::regex_match(match[2].str(), digits)) {  // a whole number, only past what the option holds
       const bool negative = match[2].str().front() == '-';
-      return fmt::format("{} '{}': expected a whole number no {} than {}", match[1].str(), match[2].str(),
-                         negative ? "smaller" : "larger",
-                         negative ? std::numeric_limits<int>::min() : std::numeric_limits<int>::max());
+      return fmt::format("{} '{}': a whole number too {} for this option", match[1].str(), match[2].str(),
+                         negative ? "small" : "large");
     }
     const char* expected = whole ? "a whole number" : type.rfind("FLOAT", 0) == 0 ? "a number" : "a value";
     return fmt::format("{} '{}': expected {}", match[1].str(), match[2].str(), expected);
@@ -96,6 +95,9 @@ std::string cli_message(const CLI::App& app, const CLI::ParseError& error) {
     return fmt::format("'{}': not an option, value or subcommand this command takes", words);
   }
   if (std::regex_match(text, match, refused_value)) return fmt::format("{} {}", match[1].str(), match[2].str());
+  if (std::regex_match(text, match, named_twice) && match[2].str().rfind(match[1].str() + " ", 0) == 0) {
+    return match[2].str();
+  }
   if (std::regex_match(text, match, missing)) return fmt::format("{}: expected a value after it", match[1].str());
   if (std::regex_match(text, match, repeated)) {
     return fmt::format("{}: given {} times; give it once", match[1].str(), match[2].str());
@@ -194,22 +196,6 @@ void refuse_ignored_options(const Invocation& invocation) {
   }
 }
 
-// The run options whose readers need the method registry, which the option table's unit tests do
-// not link: a bad name is a usage error naming the option typed, as every other run option's is.
-void read_registry_choices(const Invocation& invocation) {
-  const auto read_as_usage = [&](const char* option, const std::function<void()>& read) {
-    if (!invocation.given(option)) return;
-    try {
-      read();
-    } catch (const Error& error) {
-      const std::string message = error.what();
-      throw CliError(message.rfind(option, 0) == 0 ? message : fmt::format("{}: {}", option, message));
-    }
-  };
-  read_as_usage("--methods", [&] { resolve_method_names(invocation.run.methods); });
-  read_as_usage("--profile", [&] { require_profile(invocation.run.profile); });
-}
-
 // --resume DIR continues the command whose --out it was: the one check of DIR for every command
 // (cells and sweeps set RunOptions::resume themselves only on a folder they find).
 void apply_resume(const Invocation& invocation) {
@@ -261,7 +247,11 @@ int run_subcommand(int argc, char** argv) {
   app.require_subcommand(0, 1);
 
   RunOptions run;
-  declare_run_options(app, run);
+  // The readers of --methods and --profile need the method registry, which the option table's unit
+  // tests do not link.
+  declare_run_options(app, run,
+                      {{"--methods", [](const std::string& text) { resolve_method_names(text); }},
+                       {"--profile", [](const std::string& text) { require_profile(text); }}});
   Invocation invocation{run, app, {}};
   app.add_option("--resume", invocation.resume_dir,
                  "continue the interrupted command whose --out was DIR (give the same options): finished runs are "
@@ -281,7 +271,6 @@ int run_subcommand(int argc, char** argv) {
   try {
     parse(app, argc, argv, run);
     refuse_ignored_options(invocation);
-    read_registry_choices(invocation);
     apply_resume(invocation);
     Subcommand* chosen = nullptr;
     for (auto& [command, subcommand] : subcommands) {

@@ -201,12 +201,12 @@ std::function<bool(int)> sessions_to_save(const std::string& text, int sessions)
     const auto session = parse_number<int>(field);
     if (!session || *session < 0 || (sessions > 0 && *session >= sessions)) {
       throw CliError(fmt::format("--save-embeddings {}: expected last, all or session numbers from 0{}, "
-                                      "comma-separated", text,
-                                      sessions > 0 ? fmt::format(" to {}", sessions - 1) : std::string()));
+                                 "comma-separated", text,
+                                 sessions > 0 ? fmt::format(" to {}", sessions - 1) : std::string()));
     }
     if (!chosen.insert(*session).second) {
       throw CliError(fmt::format("--save-embeddings {}: session {} given twice; name each session once", text,
-                                      *session));
+                                 *session));
     }
     start = comma + 1;
   }
@@ -284,16 +284,13 @@ struct CommandPlan {
 };
 
 Precision chosen_precision(const RunOptions& options) {
-  if (options.precision == "fp32") return Precision::fp32;
-  if (options.precision == "bf16") return Precision::bf16;
-  throw ProtocolError(fmt::format("--precision {}: expected fp32 or bf16", shown_text(options.precision)));
+  require_precision_name(options.precision);
+  return options.precision == "bf16" ? Precision::bf16 : Precision::fp32;
 }
 
 void check_run_options(const RunOptions& options) {
   if (options.out.empty()) throw ProtocolError("--out '': expected a folder for the results");
-  if (!is_selection_name(options.selection)) {
-    throw ProtocolError(fmt::format("--selection {}: expected last, validation or test-oracle", options.selection));
-  }
+  require_selection_name(options.selection);
   chosen_precision(options);
   sessions_to_save(options.save_embeddings, 0);  // its form before any work, its numbers once sessions are drawn
 }

@@ -34,8 +34,10 @@ RunOptions sweep_cell_options(const RunOptions& sweep, const GridCell& cell) {
         throw CliError(fmt::format("--selection {} and --grid selection: a choice is either fixed or swept",
                                    sweep.selection));
       }
-      if (!is_selection_name(value)) {
-        throw CliError(fmt::format("--grid selection: --selection {}: expected last, validation or test-oracle", value));
+      try {
+        require_selection_name(value);
+      } catch (const Error& error) {
+        throw CliError(fmt::format("--grid {}", error.what()));
       }
       run.selection = value;
     } else {

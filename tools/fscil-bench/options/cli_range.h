@@ -30,7 +30,8 @@ inline CLI::Validator refusing_empty(const std::string& refusal) {
 
 // A named choice read by its floor's own reader (`read` throws fscil::Error, "split mode 'X':
 // expected recording or segment"): the refusal is the value typed and what the reader expected
-// ("'X': expected recording or segment"), which the command line puts after the option's name.
+// ("'X': expected recording or segment"), which the command line puts after the option's name; a
+// reader's line that names the option itself ("--methods a,: an empty name ...") as it is.
 inline CLI::Validator read_by(void (*read)(const std::string&)) {
   return CLI::Validator(
       [read](std::string& text) -> std::string {
@@ -38,9 +39,10 @@ inline CLI::Validator read_by(void (*read)(const std::string&)) {
           read(text);
         } catch (const Error& error) {
           const std::string message = error.what();
-          const auto expected = message.find("expected");
+          if (message.rfind("--", 0) == 0) return message;
+          const auto expected = message.find("': expected ");
           return fmt::format("'{}': {}", shown_text(text),
-                             expected == std::string::npos ? message : message.substr(expected));
+                             expected == std::string::npos ? message : message.substr(expected + 3));
         }
         return {};
       },

@@ -51,9 +51,7 @@ const std::vector<RunOption>& run_option_table() {
        "last epoch; validation: the best on base validation; test-oracle: the best on the test split, as the "
        "reference codes do: inflated, labelled so in every table)",
        &R::selection, W::always, true, {}, true, nullptr,
-       [](const std::string& text) {
-         if (!is_selection_name(text)) throw ReportError("expected last, validation or test-oracle");
-       }},
+       require_selection_name},
       {"--data-root", "root folder of a real dataset download", &R::data_root, W::when_given, false, {}, false,
        "expected a folder"},
       {"--cache-dir", "cache folder: segments, and trained base sessions under stages/ (default: ~/.cache/fscil-bench)",
@@ -80,9 +78,7 @@ const std::vector<RunOption>& run_option_table() {
        "fp32 | bf16: what the shared encoder computes in; bf16 runs its convolutions in bfloat16 (faster only on a "
        "CPU with AVX512-BF16 or AMX: fscil-bench plan says), other numbers than fp32, never in one table with fp32 runs",
        &R::precision, W::always, true, {}, true, nullptr,
-       [](const std::string& text) {
-         if (!is_precision_name(text)) throw ReportError("expected fp32 or bf16");
-       }},
+       require_precision_name},
       {"--set", "override a hyper-parameter or knob: key=value (repeatable)", &R::assignments, W::when_given, true},
       {"--quiet", "no progress on stderr", &R::quiet},
       {"--cell",
@@ -93,7 +89,7 @@ const std::vector<RunOption>& run_option_table() {
   return table;
 }
 
-void declare_run_options(CLI::App& app, RunOptions& options) {
+void declare_run_options(CLI::App& app, RunOptions& options, const std::map<std::string, ChoiceReader>& more_readers) {
   for (const RunOption& row : run_option_table()) {
     std::visit(
         [&](auto member) {
@@ -105,7 +101,10 @@ void declare_run_options(CLI::App& app, RunOptions& options) {
             if (row.range) option->check(within(*row.range));
             if (row.shows_default) option->capture_default_str();
             if (row.if_empty != nullptr) option->check(refusing_empty(row.if_empty));
-            if (row.read_choice != nullptr) option->check(read_by(row.read_choice));
+            const auto more = more_readers.find(row.name);
+            if (const ChoiceReader read = more != more_readers.end() ? more->second : row.read_choice) {
+              option->check(read_by(read));
+            }
           }
         },
         row.member);

@@ -1,4 +1,5 @@
 #pragma once
+#include <map>
 #include <optional>
 #include <string>
 #include <variant>
@@ -42,8 +43,11 @@ struct RunOption {
 // Every run option, in --help order (also the order a cell's command line is written in).
 const std::vector<RunOption>& run_option_table();
 
-// Declares every run option on `app`, bound to `options`.
-void declare_run_options(CLI::App& app, RunOptions& options);
+// Declares every run option on `app`, bound to `options`; `more_readers` reads named choices whose
+// readers the table cannot name (--methods and --profile need the method registry).
+using ChoiceReader = void (*)(const std::string&);
+void declare_run_options(CLI::App& app, RunOptions& options,
+                         const std::map<std::string, ChoiceReader>& more_readers = {});
 
 // `options` as the words of a command line (fscil-bench ...), every written option explicit.
 std::vector<std::string> run_option_words(const RunOptions& options);
