@@ -31,7 +31,7 @@ grep -q '^  small-cnn-ncm ' <<<"$listed" || fail "my-bench list does not name sm
 "$bench" --version | grep -qx "  data       $prefix/share/fscil-bench" ||
   fail "my-bench reads its data from another folder than the package's: $("$bench" --version)"
 "$bench" --methods no-such-method --dataset simtex-mini 2>"$work/unknown.err" && fail "an unknown method ran"
-grep -q "one of prototype, .*, small-cnn-ncm$" "$work/unknown.err" || fail "unknown-method error: $(cat "$work/unknown.err")"
+grep -q "one of prototype, .*, small-cnn-ncm\b" "$work/unknown.err" || fail "unknown-method error: $(cat "$work/unknown.err")"
 
 run() {  # OUT METHODS: the smoke protocol, one seed, one thread, segments and bases cached in WORK/cache
   "$bench" --methods "$2" --dataset simtex-mini --profile smoke --seeds 1 --threads 1 --cache-dir "$work/cache" \
